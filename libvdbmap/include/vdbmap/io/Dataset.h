@@ -1,0 +1,100 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "vdbmap/core/Types.h"
+#include "vdbmap/io/Camera.h"
+
+namespace vdbmap {
+
+class OptionSpec;
+
+/// The `dataset:` section of a pipeline (DATA.md). Declared through an OptionSpec so that the
+/// YAML checks and `vdbmap describe dataset` work as for stages.
+struct DatasetConfig {
+    std::string format = "kitti";  ///< "kitti" (KITTI odometry layout) or "generic"
+    std::string path;              ///< sequence folder (relative paths: relative to the YAML file)
+    double min_range_m = 1.0;      ///< points closer to the sensor are dropped and counted
+    double max_range_m = 200.0;    ///< points further away (absurd ranges) are dropped
+    int first_frame = 0;
+    int num_frames = -1;  ///< -1 = all
+    int stride = 1;
+    std::vector<std::string> cameras;  ///< KITTI: camera folders to use; empty = all found
+    // generic layout
+    std::string scans_dir = "scans";      ///< .bin / .pcd / .ply files, sorted by name
+    std::string poses_file = "poses.txt"; ///< sensor (LiDAR) poses T_W_L
+    std::string pose_format = "kitti";    ///< "kitti" (3x4 lines) or "tum"
+    std::string image_dir;                ///< generic: one camera's image folder ("" = none)
+    std::string semantic_dir;             ///< generic: its semantic id images ("" = none)
+    std::vector<double> intrinsics;       ///< generic: fx fy cx cy
+    std::vector<double> distortion;       ///< generic: k1 k2 p1 p2 [k3]
+    std::vector<double> T_C_L;            ///< generic: 12 (3x4) or 16 (4x4) row-major
+    std::string labels_file;              ///< label set "id, name, r g b" ("" = DATA.md default)
+
+    void declareOptions(OptionSpec& spec);
+};
+
+/// Counts from reading one scan.
+struct ScanReadStats {
+    std::size_t points_read = 0;
+    std::size_t dropped_non_finite = 0;
+    std::size_t dropped_range = 0;  ///< below min_range_m or above max_range_m
+};
+
+/// One frame of a sequence.
+struct FrameInfo {
+    std::size_t index = 0;      ///< position in the dataset (after first_frame / stride)
+    std::string id;             ///< zero-padded file stem, "000042"
+    Isometry3d T_W_L = Isometry3d::Identity();  ///< LiDAR pose in the world W
+    std::filesystem::path scan_path;
+    double timestamp_s = 0.0;
+};
+
+/// A sequence: frames with poses, cameras with calibration, and lazily read scans and images.
+/// KITTI frames follow DATA.md exactly: T_W_L = T_W_C0 * Tr, and camera k has
+/// T_Ck_L = [I | t_k] * Tr with P_k = K_k [I | t_k].
+class Dataset {
+public:
+    /// Opens and validates the layout (folders, calib, poses vs. scans). Throws IoError naming
+    /// the file and the problem (missing folder, malformed calib line, fewer poses than scans).
+    /// Relative `config.path` is resolved against `base_dir`.
+    static std::shared_ptr<Dataset> open(const DatasetConfig& config,
+                                         const std::filesystem::path& base_dir = {});
+
+    const DatasetConfig& config() const { return config_; }
+    const std::filesystem::path& root() const { return root_; }
+    std::size_t numFrames() const { return frames_.size(); }
+    const FrameInfo& frame(std::size_t i) const { return frames_.at(i); }
+    const std::vector<Camera>& cameras() const { return cameras_; }
+
+    /// Reads the scan of frame i in the LiDAR frame, dropping non-finite points and points
+    /// outside [min_range_m, max_range_m] (counted in `stats`). Throws IoError (truncated .bin,
+    /// corrupt PCD header, ...).
+    PointCloud loadScan(std::size_t i, ScanReadStats* stats = nullptr) const;
+
+    /// Camera pose T_W_C = T_W_L * T_C_L^-1 of camera `cam` at frame i.
+    Isometry3d T_W_C(std::size_t i, std::size_t cam) const;
+    /// Colour image of camera `cam` at frame i, or nullopt if the file is missing.
+    std::optional<std::filesystem::path> imagePath(std::size_t i, std::size_t cam) const;
+    /// Semantic id image, or nullopt if missing / the camera has none.
+    std::optional<std::filesystem::path> semanticPath(std::size_t i, std::size_t cam) const;
+
+private:
+    Dataset() = default;
+    friend class DatasetBuilder;
+
+    DatasetConfig config_;
+    std::filesystem::path root_;
+    std::vector<FrameInfo> frames_;
+    std::vector<Camera> cameras_;
+    std::vector<std::filesystem::path> image_dirs_;     // per camera ("" = none)
+    std::vector<std::filesystem::path> semantic_dirs_;  // per camera ("" = none)
+};
+
+}  // namespace vdbmap

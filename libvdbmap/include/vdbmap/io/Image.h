@@ -1,0 +1,18 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <opencv2/core.hpp>
+
+#include <filesystem>
+
+namespace vdbmap {
+
+/// Reads a colour image as 8-bit BGR (OpenCV order). Throws IoError if unreadable.
+cv::Mat readColorImage(const std::filesystem::path& path);
+/// Reads an 8-bit single-channel id image (semantic_2/...). Throws IoError if unreadable or
+/// not 8-bit single channel.
+cv::Mat readLabelImage(const std::filesystem::path& path);
+/// Writes a PNG atomically. Throws IoError.
+void writePng(const std::filesystem::path& path, const cv::Mat& image);
+
+}  // namespace vdbmap
