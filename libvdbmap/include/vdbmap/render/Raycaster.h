@@ -44,6 +44,18 @@ public:
     void intersect(const std::vector<Vec3f>& origins, const std::vector<Vec3f>& directions_unit,
                    float t_max, std::vector<std::optional<Hit>>& hits) const;
 
+    /// Closest point on the mesh to a query point (Embree rtcPointQuery, exact point-to-triangle
+    /// distance).
+    struct ClosestPoint {
+        float distance = 0;      ///< metres
+        std::uint32_t face = 0;  ///< triangle index
+        Vec3f point = Vec3f::Zero();  ///< the closest point on that triangle
+    };
+    /// Closest point within `max_distance` of `query`, or nullopt if nothing is that close (or
+    /// the mesh is empty). Thread-safe.
+    std::optional<ClosestPoint> closestPoint(
+        const Vec3f& query, float max_distance = std::numeric_limits<float>::infinity()) const;
+
     std::size_t numTriangles() const;
 
 private:
