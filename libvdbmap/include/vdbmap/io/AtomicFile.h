@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <string_view>
 
 namespace vdbmap {
 
@@ -16,8 +17,12 @@ public:
     AtomicFile(const AtomicFile&) = delete;
     AtomicFile& operator=(const AtomicFile&) = delete;
 
+    /// The temporary file to write: `.<name>.tmp<pid>-<n><ext>` beside the final file.
     const std::filesystem::path& tempPath() const { return temp_path_; }
+    /// The file that commit() creates or replaces.
     const std::filesystem::path& finalPath() const { return final_path_; }
+    /// Renames the temporary file over the final one. Throws IoError if nothing was written
+    /// or the rename fails. A second call is a no-op.
     void commit();
 
 private:
@@ -25,5 +30,8 @@ private:
     std::filesystem::path temp_path_;
     bool committed_ = false;
 };
+
+/// Writes `content` to `path` through an AtomicFile. Throws IoError.
+void writeFileAtomically(const std::filesystem::path& path, std::string_view content);
 
 }  // namespace vdbmap

@@ -14,9 +14,12 @@
 namespace vdbmap {
 
 class OptionSpec;
+class LabelSet;
 
 /// The `dataset:` section of a pipeline (DATA.md). Declared through an OptionSpec so that the
 /// YAML checks and `vdbmap describe dataset` work as for stages.
+/// Relative `path` and `labels_file` resolve against the YAML file's folder; the generic
+/// layout's scans_dir, poses_file, image_dir, semantic_dir and calib_file against `path`.
 struct DatasetConfig {
     std::string format = "kitti";  ///< "kitti" (KITTI odometry layout) or "generic"
     std::string path;              ///< sequence folder (relative paths: relative to the YAML file)
@@ -25,7 +28,7 @@ struct DatasetConfig {
     int first_frame = 0;
     int num_frames = -1;  ///< -1 = all
     int stride = 1;
-    std::vector<std::string> cameras;  ///< KITTI: camera folders to use; empty = all found
+    std::vector<std::string> cameras;  ///< KITTI: camera folders to use; empty = image_2, image_3 if present
     // generic layout
     std::string scans_dir = "scans";      ///< .bin / .pcd / .ply files, sorted by name
     std::string poses_file = "poses.txt"; ///< sensor (LiDAR) poses T_W_L
@@ -35,8 +38,10 @@ struct DatasetConfig {
     std::vector<double> intrinsics;       ///< generic: fx fy cx cy
     std::vector<double> distortion;       ///< generic: k1 k2 p1 p2 [k3]
     std::vector<double> T_C_L;            ///< generic: 12 (3x4) or 16 (4x4) row-major
+    std::string calib_file;  ///< generic: K/D/T file; replaces intrinsics, distortion, T_C_L
     std::string labels_file;              ///< label set "id, name, r g b" ("" = DATA.md default)
 
+    /// Declares every field (key = field name) with its doc, default and unit.
     void declareOptions(OptionSpec& spec);
 };
 
@@ -46,6 +51,12 @@ struct ScanReadStats {
     std::size_t dropped_non_finite = 0;
     std::size_t dropped_range = 0;  ///< below min_range_m or above max_range_m
 };
+
+/// Drops points with a non-finite coordinate and points whose range |p| is outside
+/// [min_range_m, max_range_m] (in the cloud's own sensor frame), keeping intensity aligned, and
+/// adds the counts to `stats` (may be null). `points_read` counts the points before dropping.
+void filterScan(PointCloud& cloud, double min_range_m, double max_range_m,
+                ScanReadStats* stats = nullptr);
 
 /// One frame of a sequence.
 struct FrameInfo {
@@ -67,10 +78,15 @@ public:
     static std::shared_ptr<Dataset> open(const DatasetConfig& config,
                                          const std::filesystem::path& base_dir = {});
 
+    /// The configuration it was opened with.
     const DatasetConfig& config() const { return config_; }
+    /// The sequence folder (absolute or as given, after resolution against base_dir).
     const std::filesystem::path& root() const { return root_; }
+    /// Selected frames (after first_frame / num_frames / stride).
     std::size_t numFrames() const { return frames_.size(); }
+    /// Frame i; throws std::out_of_range past numFrames().
     const FrameInfo& frame(std::size_t i) const { return frames_.at(i); }
+    /// Cameras that have at least one image (cameras without images are dropped with a warning).
     const std::vector<Camera>& cameras() const { return cameras_; }
 
     /// Reads the scan of frame i in the LiDAR frame, dropping non-finite points and points
@@ -85,6 +101,14 @@ public:
     /// Semantic id image, or nullopt if missing / the camera has none.
     std::optional<std::filesystem::path> semanticPath(std::size_t i, std::size_t cam) const;
 
+    /// Number of (frame, camera) pairs of the selected frames without a colour image.
+    std::size_t missingImages() const;
+    /// Number of (frame, camera) pairs without a semantic image, over cameras that have a
+    /// semantic folder.
+    std::size_t missingSemantics() const;
+    /// The label set of `labels_file` (DATA.md defaults if empty). Throws IoError.
+    LabelSet labels() const;
+
 private:
     Dataset() = default;
     friend class DatasetBuilder;
@@ -95,6 +119,10 @@ private:
     std::vector<Camera> cameras_;
     std::vector<std::filesystem::path> image_dirs_;     // per camera ("" = none)
     std::vector<std::filesystem::path> semantic_dirs_;  // per camera ("" = none)
+    std::filesystem::path base_dir_;                    // folder of the YAML file
+    // [frame][camera]: the file found for that view, empty if missing.
+    std::vector<std::vector<std::filesystem::path>> image_paths_;
+    std::vector<std::vector<std::filesystem::path>> semantic_paths_;
 };
 
 }  // namespace vdbmap

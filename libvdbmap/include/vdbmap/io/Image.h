@@ -12,7 +12,10 @@ cv::Mat readColorImage(const std::filesystem::path& path);
 /// Reads an 8-bit single-channel id image (semantic_2/...). Throws IoError if unreadable or
 /// not 8-bit single channel.
 cv::Mat readLabelImage(const std::filesystem::path& path);
-/// Writes a PNG atomically. Throws IoError.
+/// Writes a PNG atomically (8/16-bit, 1/3/4 channels, OpenCV channel order). Throws
+/// IoError; InvalidInput for an empty image.
 void writePng(const std::filesystem::path& path, const cv::Mat& image);
+/// Width and height of an image file. Throws IoError if unreadable.
+cv::Size readImageSize(const std::filesystem::path& path);
 
 }  // namespace vdbmap

@@ -1,0 +1,190 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "vdbmap/io/CalibIO.h"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "io/FileUtil.h"
+#include "vdbmap/Error.h"
+#include "vdbmap/io/AtomicFile.h"
+
+namespace vdbmap {
+namespace {
+
+/// One "key: numbers" line of a calibration file.
+struct CalibLine {
+    std::string key;
+    std::vector<double> values;
+    std::size_t line_number = 0;
+    std::string text;
+};
+
+std::vector<CalibLine> readCalibLines(const std::filesystem::path& path) {
+    const std::string text = detail::readWholeFile(path);
+    std::istringstream lines(text);
+    std::string line;
+    std::size_t line_number = 0;
+    std::vector<CalibLine> result;
+    while (std::getline(lines, line)) {
+        ++line_number;
+        const std::string_view content = detail::trim(line);
+        if (content.empty() || content.front() == '#') continue;
+        const std::size_t colon = content.find(':');
+        CalibLine entry;
+        entry.line_number = line_number;
+        entry.text = std::string(content.substr(0, 160));
+        if (colon == std::string_view::npos || colon == 0) {
+            throw IoError(detail::fileLine(path, line_number) +
+                          ": malformed calibration line (expected 'KEY: numbers'): '" +
+                          entry.text + "'");
+        }
+        entry.key = std::string(detail::trim(content.substr(0, colon)));
+        if (!detail::parseDoubles(detail::splitWhitespace(content.substr(colon + 1)), 0,
+                                  entry.values)) {
+            throw IoError(detail::fileLine(path, line_number) + ": calibration '" + entry.key +
+                          "' has a value that is not a number: '" + entry.text + "'");
+        }
+        for (const double v : entry.values) {
+            if (!std::isfinite(v)) {
+                throw IoError(detail::fileLine(path, line_number) + ": calibration '" +
+                              entry.key + "' has a non-finite value");
+            }
+        }
+        result.push_back(std::move(entry));
+    }
+    return result;
+}
+
+Mat34d toMat34(const std::vector<double>& v) {
+    Mat34d m;
+    for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 4; ++c) m(r, c) = v[r * 4 + c];
+    }
+    return m;
+}
+
+void requireCount(const std::filesystem::path& path, const CalibLine& line,
+                  std::initializer_list<std::size_t> counts) {
+    for (const std::size_t c : counts) {
+        if (line.values.size() == c) return;
+    }
+    std::string expected;
+    for (const std::size_t c : counts) expected += (expected.empty() ? "" : " or ") + std::to_string(c);
+    throw IoError(detail::fileLine(path, line.line_number) + ": calibration '" + line.key +
+                  "' needs " + expected + " numbers, got " + std::to_string(line.values.size()));
+}
+
+}  // namespace
+
+Isometry3d isometryFromRowMajor(const std::vector<double>& values, const std::string& what) {
+    if (values.size() != 12 && values.size() != 16) {
+        throw InvalidInput(what + ": a transform needs 12 (3x4) or 16 (4x4) row-major numbers, got " +
+                           std::to_string(values.size()));
+    }
+    if (values.size() == 16 && (std::abs(values[12]) > 1e-9 || std::abs(values[13]) > 1e-9 ||
+                                std::abs(values[14]) > 1e-9 || std::abs(values[15] - 1) > 1e-9)) {
+        throw InvalidInput(what + ": the last row of a 4x4 transform must be 0 0 0 1");
+    }
+    Isometry3d T = Isometry3d::Identity();
+    T.matrix().topRows<3>() = toMat34(values);
+    return T;
+}
+
+KittiCalib readKittiCalib(const std::filesystem::path& path) {
+    KittiCalib calib;
+    bool have_tr = false;
+    for (const CalibLine& line : readCalibLines(path)) {
+        if (line.key == "P0" || line.key == "P1" || line.key == "P2" || line.key == "P3") {
+            requireCount(path, line, {12});
+            calib.P[line.key[1] - '0'] = toMat34(line.values);
+        } else if (line.key == "Tr" || line.key == "Tr_velo_to_cam") {
+            requireCount(path, line, {12});
+            calib.Tr = isometryFromRowMajor(line.values, path.string());
+            have_tr = true;
+        }
+    }
+    if (!have_tr) {
+        throw IoError(path.string() + ": malformed KITTI calib: no 'Tr:' (LiDAR -> camera 0) line");
+    }
+    return calib;
+}
+
+void writeKittiCalib(const std::filesystem::path& path, const KittiCalib& calib) {
+    std::string text;
+    char buffer[64];
+    const auto line = [&](const std::string& key, const Mat34d& m) {
+        text += key + ":";
+        for (int r = 0; r < 3; ++r) {
+            for (int c = 0; c < 4; ++c) {
+                std::snprintf(buffer, sizeof(buffer), " %.17g", m(r, c));
+                text += buffer;
+            }
+        }
+        text += "\n";
+    };
+    for (int k = 0; k < 4; ++k) {
+        if (calib.P[k]) line("P" + std::to_string(k), *calib.P[k]);
+    }
+    line("Tr", calib.Tr.matrix().topRows<3>());
+    writeFileAtomically(path, text);
+}
+
+Camera kittiCamera(const Mat34d& P_k, const Isometry3d& Tr, const std::string& image_folder,
+                   const std::string& semantic_folder) {
+    const Mat3d K = P_k.leftCols<3>();
+    if (!(K(0, 0) > 0) || !(K(1, 1) > 0) || std::abs(K(1, 0)) > 1e-9 || std::abs(K(2, 0)) > 1e-9 ||
+        std::abs(K(2, 1)) > 1e-9 || std::abs(K(2, 2) - 1.0) > 1e-9) {
+        throw InvalidInput("camera " + image_folder +
+                           ": projection matrix is not K [I | t] with K upper triangular, "
+                           "positive focal lengths and K(2,2) = 1");
+    }
+    Camera camera;
+    camera.name = image_folder;
+    camera.semantic_name = semantic_folder;
+    camera.intrinsics.fx = K(0, 0);
+    camera.intrinsics.fy = K(1, 1);
+    camera.intrinsics.cx = K(0, 2);
+    camera.intrinsics.cy = K(1, 2);
+    // DATA.md: P_k = K_k [I | t_k]  =>  t_k = K_k^-1 P_k[:,3], T_Ck_C0 = [I | t_k].
+    const Vec3d t_k = K.triangularView<Eigen::Upper>().solve(Vec3d(P_k.col(3)));
+    Isometry3d T_Ck_C0 = Isometry3d::Identity();
+    T_Ck_C0.translation() = t_k;
+    camera.T_C_L = T_Ck_C0 * Tr;
+    return camera;
+}
+
+CameraCalib readCameraCalib(const std::filesystem::path& path) {
+    CameraCalib calib;
+    bool have_k = false, have_t = false;
+    for (const CalibLine& line : readCalibLines(path)) {
+        if (line.key == "K") {
+            requireCount(path, line, {9});
+            const auto& v = line.values;
+            if (!(v[0] > 0) || !(v[4] > 0)) {
+                throw IoError(detail::fileLine(path, line.line_number) +
+                              ": K must have positive focal lengths fx (K[0]) and fy (K[4])");
+            }
+            calib.intrinsics.fx = v[0];
+            calib.intrinsics.fy = v[4];
+            calib.intrinsics.cx = v[2];
+            calib.intrinsics.cy = v[5];
+            have_k = true;
+        } else if (line.key == "D") {
+            requireCount(path, line, {0, 4, 5});
+            for (std::size_t i = 0; i < line.values.size(); ++i) {
+                calib.intrinsics.distortion[i] = line.values[i];
+            }
+        } else if (line.key == "T") {
+            requireCount(path, line, {12, 16});
+            calib.T_C_L = isometryFromRowMajor(line.values, detail::fileLine(path, line.line_number));
+            have_t = true;
+        }
+    }
+    if (!have_k || !have_t) {
+        throw IoError(path.string() + ": camera calibration needs a 'K:' line and a 'T:' line");
+    }
+    return calib;
+}
+
+}  // namespace vdbmap

@@ -1,0 +1,39 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "vdbmap/io/Dataset.h"
+
+namespace vdbmap {
+
+/// Fills a Dataset from one of the two layouts of DATA.md (friend of Dataset).
+class DatasetBuilder {
+public:
+    /// KITTI odometry layout: velodyne/, calib.txt, poses.txt, times.txt, image_k/, semantic_k/.
+    static void openKitti(Dataset& dataset);
+    /// Generic layout: scans_dir, poses_file (kitti | tum), one optional camera.
+    static void openGeneric(Dataset& dataset);
+
+    /// Sorted scan files of `folder` with a readable extension. Throws IoError if the folder
+    /// is missing or holds no scans.
+    static std::vector<std::filesystem::path> listScans(const std::filesystem::path& folder,
+                                                        const std::string& what);
+    /// Keeps the frames selected by first_frame / num_frames / stride and renumbers them.
+    /// Throws ConfigError for out-of-range values.
+    static void selectFrames(Dataset& dataset, std::vector<FrameInfo> all);
+    /// Finds the image files of every (frame, camera), reads each camera's size from its first
+    /// image, and drops cameras without images (logWarn).
+    static void findImages(Dataset& dataset);
+
+    /// `relative` resolved against `base` (unchanged if absolute or base is empty).
+    static std::filesystem::path resolve(const std::filesystem::path& base,
+                                         const std::string& relative);
+    /// Throws IoError "<what> folder not found: <path>" unless `folder` is a directory.
+    static void requireFolder(const std::filesystem::path& folder, const std::string& what);
+};
+
+}  // namespace vdbmap

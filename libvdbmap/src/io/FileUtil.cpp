@@ -1,0 +1,96 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "io/FileUtil.h"
+
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <sstream>
+
+#include "vdbmap/Error.h"
+
+namespace vdbmap::detail {
+
+std::string readWholeFile(const std::filesystem::path& path) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) {
+        throw IoError("file not found: " + path.string());
+    }
+    if (std::filesystem::is_directory(path, ec)) {
+        throw IoError("expected a file, found a folder: " + path.string());
+    }
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        throw IoError("cannot open " + path.string() + ": " + std::strerror(errno));
+    }
+    std::ostringstream buffer;
+    buffer << in.rdbuf();
+    if (in.bad()) {
+        throw IoError("read error in " + path.string());
+    }
+    return buffer.str();
+}
+
+std::vector<std::string> splitWhitespace(std::string_view text) {
+    std::vector<std::string> tokens;
+    std::size_t i = 0;
+    const auto is_space = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; };
+    while (i < text.size()) {
+        while (i < text.size() && is_space(text[i])) ++i;
+        std::size_t j = i;
+        while (j < text.size() && !is_space(text[j])) ++j;
+        if (j > i) tokens.emplace_back(text.substr(i, j - i));
+        i = j;
+    }
+    return tokens;
+}
+
+std::string_view trim(std::string_view text) {
+    const auto is_space = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; };
+    while (!text.empty() && is_space(text.front())) text.remove_prefix(1);
+    while (!text.empty() && is_space(text.back())) text.remove_suffix(1);
+    return text;
+}
+
+bool parseDouble(std::string_view token, double& value) {
+    if (token.empty()) return false;
+    const std::string copy(token);  // strtod needs a terminated string
+    char* end = nullptr;
+    errno = 0;
+    value = std::strtod(copy.c_str(), &end);
+    return end == copy.c_str() + copy.size() && errno != ERANGE;
+}
+
+bool parseDoubles(const std::vector<std::string>& tokens, std::size_t first,
+                  std::vector<double>& values) {
+    values.clear();
+    for (std::size_t i = first; i < tokens.size(); ++i) {
+        double v = 0.0;
+        if (!parseDouble(tokens[i], v)) return false;
+        values.push_back(v);
+    }
+    return true;
+}
+
+std::string fileLine(const std::filesystem::path& path, std::size_t line_number) {
+    return path.string() + ":" + std::to_string(line_number);
+}
+
+std::ofstream openOutput(const std::filesystem::path& temp_path,
+                         const std::filesystem::path& final_path) {
+    std::ofstream out(temp_path, std::ios::binary | std::ios::trunc);
+    if (!out) {
+        throw IoError("cannot write " + final_path.string() + " (temporary " +
+                      temp_path.filename().string() + "): " + std::strerror(errno));
+    }
+    return out;
+}
+
+void closeOutput(std::ofstream& stream, const std::filesystem::path& final_path) {
+    stream.flush();
+    stream.close();
+    if (stream.fail()) {
+        throw IoError("write error on " + final_path.string() + " (disk full?)");
+    }
+}
+
+}  // namespace vdbmap::detail

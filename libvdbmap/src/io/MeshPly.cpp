@@ -1,0 +1,190 @@
+// SPDX-License-Identifier: Apache-2.0
+#include <cstring>
+#include <sstream>
+
+#include "io/FileUtil.h"
+#include "io/PlyFormat.h"
+#include "vdbmap/Error.h"
+#include "vdbmap/io/AtomicFile.h"
+#include "vdbmap/io/MeshIO.h"
+
+namespace vdbmap {
+namespace {
+
+template <typename T>
+void put(std::string& out, T value) {
+    char buffer[sizeof(T)];
+    std::memcpy(buffer, &value, sizeof(T));  // little-endian host (x86-64, aarch64)
+    out.append(buffer, sizeof(T));
+}
+
+void checkSize(const void* data, std::size_t size, std::size_t expected, const char* what,
+               const std::filesystem::path& path) {
+    if (data != nullptr && size != expected) {
+        throw InvalidInput("writeMeshPly(" + path.string() + "): " + what + " has " +
+                           std::to_string(size) + " entries, the mesh has " +
+                           std::to_string(expected));
+    }
+}
+
+}  // namespace
+
+void writeMeshPly(const std::filesystem::path& path, const TriMesh& mesh,
+                  const PlyWriteOptions& options) {
+    checkSize(options.face_labels, options.face_labels ? options.face_labels->size() : 0,
+              mesh.n_faces(), "face_labels", path);
+    checkSize(options.face_colors, options.face_colors ? options.face_colors->size() : 0,
+              mesh.n_faces(), "face_colors", path);
+    checkSize(options.vertex_colors, options.vertex_colors ? options.vertex_colors->size() : 0,
+              mesh.n_vertices(), "vertex_colors", path);
+    const bool normals = options.vertex_normals && mesh.has_vertex_normals();
+    // Deleted (not yet garbage-collected) elements are skipped; vertices are renumbered.
+    std::vector<std::int32_t> new_index(mesh.n_vertices(), -1);
+    std::size_t num_vertices = 0;
+    for (const auto vh : mesh.vertices()) new_index[vh.idx()] = static_cast<std::int32_t>(num_vertices++);
+    std::size_t num_faces = 0;
+    for (const auto fh : mesh.faces()) {
+        (void)fh;
+        ++num_faces;
+    }
+    std::ostringstream header;
+    header << "ply\nformat binary_little_endian 1.0\ncomment vdbmap\nelement vertex "
+           << num_vertices << "\nproperty float x\nproperty float y\nproperty float z\n";
+    if (normals) header << "property float nx\nproperty float ny\nproperty float nz\n";
+    if (options.vertex_colors) {
+        header << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+    }
+    header << "element face " << num_faces << "\nproperty list uchar int vertex_indices\n";
+    if (options.face_labels) header << "property uchar label\n";
+    if (options.face_colors) {
+        header << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+    }
+    header << "end_header\n";
+    std::string bytes = header.str();
+    bytes.reserve(bytes.size() + num_vertices * 27 + num_faces * 17);
+    for (const auto vh : mesh.vertices()) {
+        const auto& p = mesh.point(vh);
+        put(bytes, p[0]);
+        put(bytes, p[1]);
+        put(bytes, p[2]);
+        if (normals) {
+            const auto& n = mesh.normal(vh);
+            put(bytes, n[0]);
+            put(bytes, n[1]);
+            put(bytes, n[2]);
+        }
+        if (options.vertex_colors) {
+            for (const std::uint8_t c : (*options.vertex_colors)[vh.idx()]) put(bytes, c);
+        }
+    }
+    for (const auto fh : mesh.faces()) {
+        std::int32_t corners[3];
+        int k = 0;
+        for (const auto vh : mesh.fv_range(fh)) {
+            if (k < 3) corners[k] = new_index[vh.idx()];
+            ++k;
+        }
+        if (k != 3) {
+            throw InvalidInput("writeMeshPly(" + path.string() + "): face " +
+                               std::to_string(fh.idx()) + " has " + std::to_string(k) +
+                               " vertices, expected a triangle");
+        }
+        put(bytes, std::uint8_t{3});
+        for (const std::int32_t v : corners) put(bytes, v);
+        if (options.face_labels) put(bytes, (*options.face_labels)[fh.idx()]);
+        if (options.face_colors) {
+            for (const std::uint8_t c : (*options.face_colors)[fh.idx()]) put(bytes, c);
+        }
+    }
+    writeFileAtomically(path, bytes);
+}
+
+TriMesh readMeshPly(const std::filesystem::path& path, std::vector<std::uint8_t>* face_labels) {
+    const std::string bytes = detail::readWholeFile(path);
+    const detail::PlyHeader header = detail::parsePlyHeader(bytes, path);
+    TriMesh mesh;
+    if (face_labels != nullptr) face_labels->clear();
+    detail::PlyDataReader reader(bytes, header, path);
+    std::vector<double> scalars;
+    std::vector<std::vector<double>> lists;
+    std::vector<TriMesh::VertexHandle> handles;
+    for (const detail::PlyElement& element : header.elements) {
+        // Scalar slot of a property (its position among non-list properties), or -1.
+        const auto slot = [&](const std::string& name) {
+            int s = 0;
+            for (const auto& p : element.properties) {
+                if (p.name == name) return p.is_list ? -1 : s;
+                if (!p.is_list) ++s;
+            }
+            return -1;
+        };
+        const auto listSlot = [&](const std::string& name) {
+            int s = 0;
+            for (const auto& p : element.properties) {
+                if (p.name == name) return p.is_list ? s : -1;
+                if (p.is_list) ++s;
+            }
+            return -1;
+        };
+        if (element.name == "vertex") {
+            const int ix = slot("x"), iy = slot("y"), iz = slot("z");
+            const int inx = slot("nx"), iny = slot("ny"), inz = slot("nz");
+            if (ix < 0 || iy < 0 || iz < 0) {
+                throw IoError(path.string() + ": PLY vertex element lacks x, y or z");
+            }
+            const bool has_normals = inx >= 0 && iny >= 0 && inz >= 0;
+            for (std::size_t k = 0; k < element.count; ++k) {
+                reader.read(element, scalars, lists);
+                const auto vh = mesh.add_vertex(TriMesh::Point(static_cast<float>(scalars[ix]),
+                                                               static_cast<float>(scalars[iy]),
+                                                               static_cast<float>(scalars[iz])));
+                if (has_normals) {
+                    mesh.set_normal(vh, TriMesh::Normal(static_cast<float>(scalars[inx]),
+                                                        static_cast<float>(scalars[iny]),
+                                                        static_cast<float>(scalars[inz])));
+                }
+                handles.push_back(vh);
+            }
+        } else if (element.name == "face") {
+            int il = listSlot("vertex_indices");
+            if (il < 0) il = listSlot("vertex_index");
+            if (il < 0) throw IoError(path.string() + ": PLY face element has no vertex_indices list");
+            const int ilabel = slot("label");
+            std::vector<TriMesh::VertexHandle> corners;
+            for (std::size_t k = 0; k < element.count; ++k) {
+                reader.read(element, scalars, lists);
+                const std::vector<double>& indices = lists[il];
+                corners.clear();
+                for (const double index : indices) {
+                    if (index < 0 || index >= static_cast<double>(handles.size())) {
+                        throw IoError(path.string() + ": PLY face " + std::to_string(k) +
+                                      " refers to vertex " + std::to_string(index) + " of " +
+                                      std::to_string(handles.size()));
+                    }
+                    corners.push_back(handles[static_cast<std::size_t>(index)]);
+                }
+                // Fan triangulation of polygons; faces OpenMesh rejects (non-manifold) are
+                // skipped so that labels stay aligned with the faces that exist.
+                for (std::size_t c = 1; c + 1 < corners.size(); ++c) {
+                    const auto fh = mesh.add_face(corners[0], corners[c], corners[c + 1]);
+                    if (fh.is_valid() && face_labels != nullptr) {
+                        face_labels->push_back(
+                            ilabel >= 0 ? static_cast<std::uint8_t>(scalars[ilabel]) : 255);
+                    }
+                }
+            }
+        } else {
+            for (std::size_t k = 0; k < element.count; ++k) reader.read(element, scalars, lists);
+        }
+    }
+    if (face_labels != nullptr) {
+        bool any_label = false;
+        for (const auto& element : header.elements) {
+            if (element.name == "face" && element.find("label") >= 0) any_label = true;
+        }
+        if (!any_label) face_labels->clear();
+    }
+    return mesh;
+}
+
+}  // namespace vdbmap

@@ -1,0 +1,282 @@
+// SPDX-License-Identifier: Apache-2.0
+#include <cstdint>
+#include <cstring>
+
+#include "io/FileUtil.h"
+#include "io/Lzf.h"
+#include "vdbmap/Error.h"
+#include "vdbmap/io/PointCloudIO.h"
+
+namespace vdbmap {
+namespace {
+
+struct PcdField {
+    std::string name;
+    std::size_t size = 4;
+    char type = 'F';
+    std::size_t count = 1;
+    std::size_t offset = 0;  // bytes from the start of a point (binary) / first value (ascii)
+};
+
+struct PcdHeader {
+    std::vector<PcdField> fields;
+    std::size_t width = 0, height = 1, points = 0;
+    bool have_points = false, have_width = false;
+    std::string data;
+    std::size_t data_offset = 0;
+    std::size_t point_step = 0;   // bytes per point
+    std::size_t value_count = 0;  // values per point (sum of COUNT)
+};
+
+double loadValue(const char* p, char type, std::size_t size) {
+    // Little-endian, as PCL writes on every platform it supports.
+    const auto get = [p](auto v) {
+        std::memcpy(&v, p, sizeof(v));
+        return static_cast<double>(v);
+    };
+    if (type == 'F') return size == 4 ? get(float{}) : get(double{});
+    if (type == 'U') {
+        switch (size) {
+            case 1: return get(std::uint8_t{});
+            case 2: return get(std::uint16_t{});
+            case 4: return get(std::uint32_t{});
+            default: return get(std::uint64_t{});
+        }
+    }
+    switch (size) {
+        case 1: return get(std::int8_t{});
+        case 2: return get(std::int16_t{});
+        case 4: return get(std::int32_t{});
+        default: return get(std::int64_t{});
+    }
+}
+
+PcdHeader parseHeader(const std::string& bytes, const std::filesystem::path& path) {
+    PcdHeader h;
+    std::size_t pos = 0;
+    std::size_t line_number = 0;
+    std::vector<std::string> names, sizes, types, counts;
+    while (h.data.empty()) {
+        const std::size_t end = bytes.find('\n', pos);
+        if (end == std::string::npos) {
+            throw IoError(path.string() + ": corrupt PCD header: no DATA line");
+        }
+        const std::string line(detail::trim(std::string_view(bytes).substr(pos, end - pos)));
+        pos = end + 1;
+        ++line_number;
+        if (line.empty() || line[0] == '#') continue;
+        const auto fail = [&](const std::string& why) {
+            return IoError(detail::fileLine(path, line_number) + ": corrupt PCD header line '" +
+                           line.substr(0, 120) + "': " + why);
+        };
+        const std::vector<std::string> tok = detail::splitWhitespace(line);
+        const std::string& key = tok[0];
+        const std::vector<std::string> rest(tok.begin() + 1, tok.end());
+        const auto count = [&]() {
+            double v = 0;
+            if (rest.size() != 1 || !detail::parseDouble(rest[0], v) || v < 0 ||
+                v != static_cast<double>(static_cast<std::size_t>(v))) {
+                throw fail("expected one non-negative integer");
+            }
+            return static_cast<std::size_t>(v);
+        };
+        if (key == "VERSION") {
+            continue;
+        } else if (key == "FIELDS" || key == "COLUMNS") {
+            if (rest.empty()) throw fail("no field names");
+            names = rest;
+        } else if (key == "SIZE") {
+            sizes = rest;
+        } else if (key == "TYPE") {
+            types = rest;
+        } else if (key == "COUNT") {
+            counts = rest;
+        } else if (key == "WIDTH") {
+            h.width = count();
+            h.have_width = true;
+        } else if (key == "HEIGHT") {
+            h.height = count();
+        } else if (key == "POINTS") {
+            h.points = count();
+            h.have_points = true;
+        } else if (key == "VIEWPOINT") {
+            std::vector<double> v;
+            if (!detail::parseDoubles(rest, 0, v) || v.size() != 7) {
+                throw fail("expected 7 numbers (tx ty tz qw qx qy qz)");
+            }
+        } else if (key == "DATA") {
+            if (rest.size() != 1 ||
+                (rest[0] != "ascii" && rest[0] != "binary" && rest[0] != "binary_compressed")) {
+                throw fail("expected 'DATA ascii', 'DATA binary' or 'DATA binary_compressed'");
+            }
+            if (names.empty()) throw fail("DATA before FIELDS");
+            if (sizes.size() != names.size() || types.size() != names.size() ||
+                (!counts.empty() && counts.size() != names.size())) {
+                throw fail("FIELDS has " + std::to_string(names.size()) +
+                           " names but SIZE/TYPE/COUNT have " + std::to_string(sizes.size()) +
+                           "/" + std::to_string(types.size()) + "/" +
+                           std::to_string(counts.empty() ? names.size() : counts.size()));
+            }
+            for (std::size_t i = 0; i < names.size(); ++i) {
+                PcdField f;
+                f.name = names[i];
+                double s = 0, c = 1;
+                if (!detail::parseDouble(sizes[i], s) ||
+                    !(s == 1 || s == 2 || s == 4 || s == 8)) {
+                    throw fail("field '" + f.name + "' has invalid SIZE '" + sizes[i] + "'");
+                }
+                f.size = static_cast<std::size_t>(s);
+                if (types[i].size() != 1 || std::string("FUI").find(types[i][0]) == std::string::npos ||
+                    (types[i][0] == 'F' && f.size != 4 && f.size != 8)) {
+                    throw fail("field '" + f.name + "' has invalid TYPE '" + types[i] +
+                               "' for SIZE " + sizes[i]);
+                }
+                f.type = types[i][0];
+                if (!counts.empty() && (!detail::parseDouble(counts[i], c) || c < 1 ||
+                                        c != static_cast<int>(c) || c > 1e6)) {
+                    throw fail("field '" + f.name + "' has invalid COUNT '" + counts[i] + "'");
+                }
+                f.count = static_cast<std::size_t>(c);
+                f.offset = h.point_step;
+                h.point_step += f.size * f.count;
+                h.value_count += f.count;
+                h.fields.push_back(f);
+            }
+            if (!h.have_width) throw fail("no WIDTH line before DATA");
+            if (!h.have_points) h.points = h.width * h.height;
+            if (h.width * h.height != h.points) {
+                throw fail("WIDTH x HEIGHT = " + std::to_string(h.width * h.height) +
+                           " but POINTS = " + std::to_string(h.points));
+            }
+            h.data = rest[0];
+        } else {
+            throw fail("unknown keyword '" + key + "'");
+        }
+    }
+    h.data_offset = pos;
+    return h;
+}
+
+int findField(const PcdHeader& h, std::initializer_list<const char*> names) {
+    for (const char* name : names) {
+        for (std::size_t i = 0; i < h.fields.size(); ++i) {
+            if (h.fields[i].name == name) return static_cast<int>(i);
+        }
+    }
+    return -1;
+}
+
+}  // namespace
+
+PointCloud readPcd(const std::filesystem::path& path) {
+    const std::string bytes = detail::readWholeFile(path);
+    const PcdHeader h = parseHeader(bytes, path);
+    const int fx = findField(h, {"x"}), fy = findField(h, {"y"}), fz = findField(h, {"z"});
+    if (fx < 0 || fy < 0 || fz < 0) {
+        throw IoError(path.string() + ": PCD has no x, y and z fields (FIELDS must include them)");
+    }
+    const int fi = findField(h, {"intensity", "i", "reflectance", "remission"});
+    const std::size_t n = h.points;
+    PointCloud cloud;
+    cloud.points.resize(n);
+    if (fi >= 0) cloud.intensity.resize(n);
+    const auto store = [&](std::size_t point, int field, double v) {
+        if (field == fx) cloud.points[point].x() = static_cast<float>(v);
+        if (field == fy) cloud.points[point].y() = static_cast<float>(v);
+        if (field == fz) cloud.points[point].z() = static_cast<float>(v);
+        if (field == fi) cloud.intensity[point] = static_cast<float>(v);
+    };
+    const int used[4] = {fx, fy, fz, fi};
+    const std::size_t available = bytes.size() - h.data_offset;
+
+    if (h.data == "ascii") {
+        std::size_t pos = h.data_offset;
+        std::size_t line_number = 0;
+        for (std::size_t k = 0; k < h.data_offset; ++k) line_number += bytes[k] == '\n';
+        std::vector<double> values;
+        std::size_t point = 0;
+        while (point < n) {
+            if (pos >= bytes.size()) {
+                throw IoError(path.string() + ": PCD ascii data has " + std::to_string(point) +
+                              " points, header says POINTS " + std::to_string(n));
+            }
+            std::size_t end = bytes.find('\n', pos);
+            if (end == std::string::npos) end = bytes.size();
+            ++line_number;
+            const std::string_view line = std::string_view(bytes).substr(pos, end - pos);
+            pos = end + 1;
+            const std::vector<std::string> tok = detail::splitWhitespace(line);
+            if (tok.empty()) continue;
+            if (!detail::parseDoubles(tok, 0, values) || values.size() != h.value_count) {
+                throw IoError(detail::fileLine(path, line_number) + ": PCD ascii point " +
+                              std::to_string(point) + " needs " + std::to_string(h.value_count) +
+                              " numbers");
+            }
+            std::size_t value_index = 0;
+            for (std::size_t f = 0; f < h.fields.size(); ++f) {
+                store(point, static_cast<int>(f), values[value_index]);
+                value_index += h.fields[f].count;
+            }
+            ++point;
+        }
+        return cloud;
+    }
+
+    if (h.data == "binary") {
+        if (available < n * h.point_step) {
+            throw IoError(path.string() + ": PCD binary data is truncated: " +
+                          std::to_string(n) + " points x " + std::to_string(h.point_step) +
+                          " bytes need " + std::to_string(n * h.point_step) + ", file has " +
+                          std::to_string(available));
+        }
+        const char* data = bytes.data() + h.data_offset;
+        for (const int f : used) {
+            if (f < 0) continue;
+            const PcdField& field = h.fields[f];
+            for (std::size_t i = 0; i < n; ++i) {
+                store(i, f, loadValue(data + i * h.point_step + field.offset, field.type,
+                                      field.size));
+            }
+        }
+        return cloud;
+    }
+
+    // binary_compressed: uint32 compressed size, uint32 uncompressed size, LZF stream. The
+    // uncompressed buffer is field-major: all points' values of field 0, then field 1, ...
+    if (available < 8) {
+        throw IoError(path.string() + ": PCD binary_compressed data is truncated (no sizes)");
+    }
+    std::uint32_t compressed_size = 0, uncompressed_size = 0;
+    std::memcpy(&compressed_size, bytes.data() + h.data_offset, 4);
+    std::memcpy(&uncompressed_size, bytes.data() + h.data_offset + 4, 4);
+    if (compressed_size > available - 8) {
+        throw IoError(path.string() + ": PCD binary_compressed data is truncated: header says " +
+                      std::to_string(compressed_size) + " compressed bytes, file has " +
+                      std::to_string(available - 8));
+    }
+    if (uncompressed_size != n * h.point_step) {
+        throw IoError(path.string() + ": PCD binary_compressed uncompressed size " +
+                      std::to_string(uncompressed_size) + " does not match " +
+                      std::to_string(n) + " points x " + std::to_string(h.point_step) + " bytes");
+    }
+    std::vector<std::uint8_t> raw(uncompressed_size);
+    if (uncompressed_size > 0 &&
+        !detail::lzfDecompress(
+            reinterpret_cast<const std::uint8_t*>(bytes.data() + h.data_offset + 8),
+            compressed_size, raw.data(), raw.size())) {
+        throw IoError(path.string() + ": PCD binary_compressed data is corrupt (LZF decode failed)");
+    }
+    const char* data = reinterpret_cast<const char*>(raw.data());
+    for (const int f : used) {
+        if (f < 0) continue;
+        const PcdField& field = h.fields[f];
+        const std::size_t stride = field.size * field.count;
+        const char* column = data + n * field.offset;
+        for (std::size_t i = 0; i < n; ++i) {
+            store(i, f, loadValue(column + i * stride, field.type, field.size));
+        }
+    }
+    return cloud;
+}
+
+}  // namespace vdbmap
