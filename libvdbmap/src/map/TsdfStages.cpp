@@ -1,10 +1,189 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "map/TsdfStages.h"
 
+#include <openvdb/openvdb.h>
+
+#include <memory>
+#include <sstream>
+
+#include "vdbmap/core/Log.h"
+#include "vdbmap/core/Progress.h"
+#include "vdbmap/core/Timer.h"
+#include "vdbmap/io/Dataset.h"
+#include "vdbmap/map/AtsdfIntegrator.h"
+#include "vdbmap/map/BlockStats.h"
+#include "vdbmap/map/Layers.h"
+#include "vdbmap/map/VoxelMap.h"
+#include "vdbmap/mesh/MarchingCubes.h"
+#include "vdbmap/pipeline/Context.h"
+#include "vdbmap/pipeline/Report.h"
 #include "vdbmap/pipeline/StageRegistry.h"
 
 namespace vdbmap::detail {
+namespace {
 
-void registerTsdfStages(StageRegistry& registry) { (void)registry; }
+/// integrate.atsdf: adaptive TSDF integration of every scan of the dataset (paper Sec. 4).
+class IntegrateAtsdfStage : public Stage {
+public:
+    std::string_view name() const override { return "integrate.atsdf"; }
+    std::string_view summary() const override {
+        return "Adaptive-truncation TSDF integration of the LiDAR scans into OpenVDB grids";
+    }
+    void declareOptions(OptionSpec& spec) override {
+        spec.add("voxel_size_m", "Edge length of a voxel", voxel_size_m_, 0.10, "m");
+        spec.add("truncation_mode", "adaptive (paper Eq. 4, per 8^3 block) or fixed (= truncation_max_m)",
+                 truncation_mode_, std::string("adaptive"));
+        spec.add("truncation_min_m", "Lower bound eps_min of the truncation distance", min_m_, 0.10, "m");
+        spec.add("truncation_max_m", "Upper bound eps_max of the truncation (the fixed value in fixed mode)",
+                 max_m_, 0.30, "m");
+        spec.add("flatness_k", "Weight k of the flatness in eps = k P_flat n_ref / n eps_max", k_, 1.0);
+        spec.add("reference_points",
+                 "Points per block n_ref at which a flat block gets k * eps_max (n enters as n / n_ref)",
+                 n_ref_, 100.0);
+        spec.add("min_points_for_pca", "Blocks with fewer points are degenerate (eps_max, ray normal)",
+                 min_points_, 5);
+        spec.add("weight_floor", "Lower bound of the incidence-angle weight, in (0, 1]", weight_floor_, 0.1);
+        spec.add("max_weight", "Cap of the accumulated weight per voxel", max_weight_, 100.0);
+        spec.add("space_carving",
+                 "Push already allocated voxels in front of the band towards free space (+eps_max)",
+                 space_carving_, false);
+    }
+    void initialize() override {
+        if (!(voxel_size_m_ > 0.0) || !std::isfinite(voxel_size_m_)) {
+            std::ostringstream os;
+            os << "option 'voxel_size_m' must be finite and > 0, got " << voxel_size_m_;
+            failConfig(os.str());
+        }
+        try {
+            config_.truncation.mode = parseTruncationMode(truncation_mode_);
+        } catch (const ConfigError& e) {
+            failConfig(std::string("option '") + e.what());
+        }
+        config_.truncation.min_m = min_m_;
+        config_.truncation.max_m = max_m_;
+        config_.truncation.flatness_k = k_;
+        config_.truncation.reference_points = n_ref_;
+        config_.min_points_for_pca = min_points_;
+        config_.weight_floor = weight_floor_;
+        config_.max_weight = max_weight_;
+        config_.space_carving = space_carving_;
+        validateAtsdfConfig(config_, std::string(name()));
+    }
+    void declareLayers(LayerSpec& spec) const override {
+        spec.reads(layers::kScans);
+        spec.writes(layers::kTsdf);
+    }
+    void run(Context& ctx) override {
+        const Dataset& dataset = ctx.dataset();
+        auto map = std::make_shared<VoxelMap>(voxel_size_m_, static_cast<float>(max_m_));
+        AtsdfIntegrator integrator(*map, config_);
+        ScanReadStats read_total;
+        Timer timer;
+        {
+            Progress progress("integrate.atsdf", dataset.numFrames(), ctx.quiet());
+            for (std::size_t i = 0; i < dataset.numFrames(); ++i) {
+                ScanReadStats rs;
+                const PointCloud cloud = dataset.loadScan(i, &rs);
+                read_total.points_read += rs.points_read;
+                read_total.dropped_non_finite += rs.dropped_non_finite;
+                read_total.dropped_range += rs.dropped_range;
+                integrator.integrateScan(cloud.points, dataset.frame(i).T_W_L);
+                progress.tick();
+            }
+        }
+        const double seconds = timer.elapsedSeconds();
+        integrator.finalize();
+        ctx.setMap(map);
+
+        const IntegrationStats& t = integrator.totals();
+        const std::string s(name());
+        Report& r = ctx.report();
+        r.stage(s, "scans", t.scans);
+        r.stage(s, "points_read", read_total.points_read);
+        r.stage(s, "points_integrated", t.points_integrated);
+        r.stage(s, "dropped_non_finite", read_total.dropped_non_finite + t.dropped_non_finite);
+        r.stage(s, "dropped_range", read_total.dropped_range + t.dropped_range);
+        r.stage(s, "dropped_at_origin", t.dropped_at_origin);
+        r.stage(s, "voxel_updates", t.voxel_updates);
+        r.stage(s, "carving_updates", t.carving_updates);
+        const std::size_t active = static_cast<std::size_t>(map->tsdf()->activeVoxelCount());
+        const std::size_t leaves = static_cast<std::size_t>(map->tsdf()->tree().leafCount());
+        r.stage(s, "voxels_active", active);
+        r.stage(s, "leaves", leaves);
+        r.stage(s, "blocks_with_stats", map->blockStats().size());
+        r.stage(s, "bytes_per_leaf_stats", map->blockStats().bytesPerBlock());
+        const double grid_bytes = static_cast<double>(map->tsdf()->memUsage() + map->weight()->memUsage());
+        r.stage(s, "bytes_per_active_voxel", active ? grid_bytes / static_cast<double>(active) : 0.0);
+        r.stage(s, "ms_per_scan", t.scans ? 1e3 * seconds / static_cast<double>(t.scans) : 0.0);
+        r.stage(s, "mpts_per_s", seconds > 0 ? 1e-6 * static_cast<double>(t.points_integrated) / seconds : 0.0);
+        std::ostringstream os;
+        os << "integrate.atsdf: " << t.scans << " scans, " << t.points_integrated << " points, "
+           << active << " active voxels in " << leaves << " leaves";
+        logInfo(os.str());
+    }
+
+private:
+    double voxel_size_m_ = 0.10;
+    std::string truncation_mode_;
+    double min_m_ = 0.10, max_m_ = 0.30, k_ = 1.0, n_ref_ = 100.0;
+    int min_points_ = 5;
+    double weight_floor_ = 0.1, max_weight_ = 100.0;
+    bool space_carving_ = false;
+    AtsdfConfig config_;
+};
+
+/// mesh.marching_cubes: zero level set of the tsdf as a welded triangle mesh.
+class MarchingCubesStage : public Stage {
+public:
+    std::string_view name() const override { return "mesh.marching_cubes"; }
+    std::string_view summary() const override {
+        return "Marching cubes over the observed tsdf (welded vertices, vertex normals)";
+    }
+    void declareOptions(OptionSpec& spec) override {
+        spec.add("min_weight", "Mesh a cube only if its 8 corners have at least this weight",
+                 config_.min_weight, 0.1);
+        spec.add("min_component_faces", "Remove connected components with fewer faces (0 = keep all)",
+                 config_.min_component_faces, 0);
+    }
+    void initialize() override {
+        if (!(config_.min_weight >= 0.0) || !std::isfinite(config_.min_weight)) {
+            std::ostringstream os;
+            os << "option 'min_weight' must be finite and >= 0, got " << config_.min_weight;
+            failConfig(os.str());
+        }
+        if (config_.min_component_faces < 0) {
+            failConfig("option 'min_component_faces' must be >= 0, got " +
+                       std::to_string(config_.min_component_faces));
+        }
+    }
+    void declareLayers(LayerSpec& spec) const override {
+        spec.reads(layers::kTsdf);
+        spec.writes(layers::kMesh);
+    }
+    void run(Context& ctx) override {
+        Timer timer;
+        MeshStats stats;
+        ctx.setMesh(extractMesh(ctx.map(), config_, &stats));
+        const std::string s(name());
+        Report& r = ctx.report();
+        r.stage(s, "faces", stats.faces);
+        r.stage(s, "vertices", stats.vertices);
+        r.stage(s, "cubes_meshed", stats.cubes_meshed);
+        r.stage(s, "components_removed", stats.components_removed);
+        r.stage(s, "faces_removed_small_components", stats.faces_removed_small_components);
+        r.stage(s, "faces_rejected_nonmanifold", stats.faces_rejected_nonmanifold);
+        r.stage(s, "seconds", timer.elapsedSeconds());
+    }
+
+private:
+    MarchingCubesConfig config_;
+};
+
+}  // namespace
+
+void registerTsdfStages(StageRegistry& registry) {
+    registry.add<IntegrateAtsdfStage>();
+    registry.add<MarchingCubesStage>();
+}
 
 }  // namespace vdbmap::detail

@@ -1,0 +1,92 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "vdbmap/core/Types.h"
+#include "vdbmap/map/Truncation.h"
+
+namespace vdbmap {
+
+class VoxelMap;
+
+/// Settings of the adaptive TSDF integration (paper Sec. 4).
+struct AtsdfConfig {
+    TruncationParams truncation;
+    int min_points_for_pca = 5;     ///< blocks with fewer points are degenerate
+    double weight_floor = 0.1;      ///< lower bound of the incidence weight, (0, 1]
+    double max_weight = 100.0;      ///< cap of the accumulated weight per voxel
+    /// Space carving: along the ray from the sensor to (point - eps), voxels that are already
+    /// allocated are updated with sdf = +eps_max (free space). Never allocates free space.
+    bool space_carving = false;
+    double min_range_m = 1e-3;      ///< closer to the sensor: dropped as "at origin"
+    double max_range_m = 1000.0;    ///< further: dropped as absurd range
+};
+
+/// Throws ConfigError naming the bad key and value.
+void validateAtsdfConfig(const AtsdfConfig& config, const std::string& who);
+
+/// Counts of one or more integrated scans.
+struct IntegrationStats {
+    std::size_t scans = 0;
+    std::size_t points_in = 0;
+    std::size_t points_integrated = 0;
+    std::size_t dropped_non_finite = 0;
+    std::size_t dropped_at_origin = 0;
+    std::size_t dropped_range = 0;
+    std::size_t voxel_updates = 0;
+    std::size_t carving_updates = 0;
+
+    IntegrationStats& operator+=(const IntegrationStats& other);
+};
+
+/// Adaptive TSDF integration into a VoxelMap (paper Sec. 4, on OpenVDB).
+///
+/// Per scan:
+///  1. points are checked (non-finite, at the origin, absurd range: counted and skipped) and
+///     binned by 8^3 block in scan order;
+///  2. each block's batch statistics are merged into its BlockEntry (paper Eq. (1)), then its
+///     plane (Eq. (2), (3)) and eps (Eq. (4)) are recomputed: a point uses the eps and normal
+///     of its own block AFTER the current scan's merge;
+///  3. for every point, the voxels whose centre lies within [-eps, +eps] of the point along its
+///     ray (DDA) get sdf = n . (v - p) (the distance to the block's plane; along the ray when
+///     the block is degenerate), clamped to [-eps, eps], with weight
+///     w = incidenceWeight * behindSurfaceFactor, and the running average
+///     D' = (W D + w d) / (W + w), W' = min(W + w, max_weight).
+///
+/// Parallel (TBB) and deterministic: phases 1 and 2 are parallel over points / blocks; phase 3
+/// groups blocks into cells at least as wide as the update reach and runs the 27 colour
+/// classes (cell coordinate mod 3) one after another, cells of one colour in parallel. Cells of
+/// one colour never write the same voxel, and each voxel sees its updates in a fixed order
+/// (colour, then block order of first appearance, then point order): the result does not
+/// depend on the thread count. No atomics, no locks in the voxel loop.
+class AtsdfIntegrator {
+public:
+    /// The map's tsdf background should be config.truncation.max_m. Throws ConfigError.
+    AtsdfIntegrator(VoxelMap& map, const AtsdfConfig& config);
+
+    /// Integrates one scan given in the world frame, observed from `origin_W`. Empty scans are
+    /// a no-op (counted). Never throws on bad points (they are counted in the stats).
+    IntegrationStats integrateScan(const std::vector<Vec3f>& points_W, const Vec3d& origin_W);
+    /// Same with points in the LiDAR frame and the pose T_W_L.
+    IntegrationStats integrateScan(const std::vector<Vec3f>& points_L, const Isometry3d& T_W_L);
+
+    /// Writes the per-voxel truncation grid ("truncation", eps of the voxel's block, metres,
+    /// topology of the tsdf) and the truncation metadata into the map, and removes leaves
+    /// without active voxels. Call after the last scan.
+    void finalize();
+
+    const AtsdfConfig& config() const { return config_; }
+    const IntegrationStats& totals() const { return totals_; }
+
+private:
+    VoxelMap& map_;
+    AtsdfConfig config_;
+    IntegrationStats totals_;
+    std::vector<std::int32_t> local_of_slot_;  ///< per-scan scratch: block slot -> local index
+};
+
+}  // namespace vdbmap

@@ -1,0 +1,407 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "vdbmap/map/AtsdfIntegrator.h"
+
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/Prune.h>
+#include <openvdb/tree/LeafManager.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <sstream>
+
+#include "map/RayTraversal.h"
+#include "vdbmap/Error.h"
+#include "vdbmap/Version.h"
+#include "vdbmap/map/BlockStats.h"
+#include "vdbmap/map/MeasurementWeight.h"
+#include "vdbmap/map/VoxelMap.h"
+
+namespace vdbmap {
+
+using openvdb::Coord;
+using FloatLeaf = openvdb::FloatTree::LeafNodeType;
+
+namespace {
+
+constexpr std::size_t kPointChunk = 4096;
+
+enum PointStatus : std::uint8_t { kValid = 0, kNonFinite = 1, kAtOrigin = 2, kRange = 3 };
+
+int floorDiv(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+int mod3(int a) { return ((a % 3) + 3) % 3; }
+
+/// The points of one block in this scan (a range of `order`) and what phase 2 derived.
+struct LocalBlock {
+    std::int32_t slot = -1;  ///< index into BlockStatsGrid
+    std::uint32_t begin = 0, end = 0;
+    std::vector<Coord> leaves;  ///< TSDF leaf origins the block's updates may touch
+    std::uint64_t sort_key = 0;  ///< (colour, cell) for phase 3
+};
+
+/// Two-leaf cache for the tsdf and weight trees (same topology). Leaves exist (phase 3a).
+struct LeafCache {
+    openvdb::FloatTree& tsdf;
+    openvdb::FloatTree& weight;
+    Coord origin = Coord::max();
+    FloatLeaf* t = nullptr;
+    FloatLeaf* w = nullptr;
+
+    bool fetch(const Coord& ijk) {
+        const Coord o = ijk & ~7;
+        if (o != origin) {
+            origin = o;
+            t = tsdf.probeLeaf(o);
+            w = weight.probeLeaf(o);
+        }
+        return t != nullptr && w != nullptr;
+    }
+};
+
+}  // namespace
+
+IntegrationStats& IntegrationStats::operator+=(const IntegrationStats& o) {
+    scans += o.scans;
+    points_in += o.points_in;
+    points_integrated += o.points_integrated;
+    dropped_non_finite += o.dropped_non_finite;
+    dropped_at_origin += o.dropped_at_origin;
+    dropped_range += o.dropped_range;
+    voxel_updates += o.voxel_updates;
+    carving_updates += o.carving_updates;
+    return *this;
+}
+
+void validateAtsdfConfig(const AtsdfConfig& c, const std::string& who) {
+    validateTruncation(c.truncation, who);
+    auto bad = [&](const char* key, double value, const char* rule) {
+        std::ostringstream os;
+        os << who << ": option '" << key << "' must be " << rule << ", got " << value;
+        throw ConfigError(os.str());
+    };
+    if (c.min_points_for_pca < 3) bad("min_points_for_pca", c.min_points_for_pca, ">= 3");
+    if (!(c.weight_floor > 0.0 && c.weight_floor <= 1.0))
+        bad("weight_floor", c.weight_floor, "in (0, 1]");
+    if (!(c.max_weight > 0.0) || !std::isfinite(c.max_weight))
+        bad("max_weight", c.max_weight, "finite and > 0");
+    if (!(c.min_range_m >= 0.0)) bad("min_range_m", c.min_range_m, ">= 0");
+    if (!(c.max_range_m > c.min_range_m)) bad("max_range_m", c.max_range_m, "> min_range_m");
+}
+
+AtsdfIntegrator::AtsdfIntegrator(VoxelMap& map, const AtsdfConfig& config)
+    : map_(map), config_(config) {
+    validateAtsdfConfig(config_, "integrate.atsdf");
+}
+
+IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points_L,
+                                                const Isometry3d& T_W_L) {
+    std::vector<Vec3f> points_W(points_L.size());
+    const Eigen::Isometry3f T = T_W_L.cast<float>();
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points_L.size(), kPointChunk),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t i = r.begin(); i < r.end(); ++i)
+                              points_W[i] = T * points_L[i];
+                      });
+    return integrateScan(points_W, T_W_L.translation());
+}
+
+IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points_W,
+                                                const Vec3d& origin_W) {
+    IntegrationStats st;
+    st.scans = 1;
+    st.points_in = points_W.size();
+    const std::size_t n_points = points_W.size();
+    if (n_points == 0 || !origin_W.allFinite()) {
+        st.dropped_non_finite = origin_W.allFinite() ? 0 : n_points;
+        totals_ += st;
+        return st;
+    }
+    const double vs = map_.voxelSize();
+    const double inv_vs = 1.0 / vs;
+    const TruncationParams& trunc = config_.truncation;
+    BlockStatsGrid& blocks = map_.blockStats();
+
+    // ---- Phase 1: classify points (parallel), bin them by block in scan order (serial).
+    std::vector<std::uint8_t> status(n_points);
+    std::vector<Coord> block_of(n_points);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n_points, kPointChunk),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                              const Vec3d p = points_W[i].cast<double>();
+                              if (!p.allFinite()) {
+                                  status[i] = kNonFinite;
+                                  continue;
+                              }
+                              const double range = (p - origin_W).norm();
+                              if (range < config_.min_range_m) {
+                                  status[i] = kAtOrigin;
+                              } else if (range > config_.max_range_m) {
+                                  status[i] = kRange;
+                              } else {
+                                  status[i] = kValid;
+                                  block_of[i] = BlockStatsGrid::blockOf(detail::voxelOf(p, inv_vs));
+                              }
+                          }
+                      });
+    std::vector<std::int32_t> local_of_point(n_points, -1);
+    std::vector<LocalBlock> local;
+    std::vector<std::uint32_t> count;
+    {
+        local_of_slot_.resize(blocks.size(), -1);
+        Coord prev_block = Coord::max();
+        std::int32_t prev_local = -1;
+        for (std::size_t i = 0; i < n_points; ++i) {
+            switch (status[i]) {
+                case kNonFinite: ++st.dropped_non_finite; continue;
+                case kAtOrigin: ++st.dropped_at_origin; continue;
+                case kRange: ++st.dropped_range; continue;
+                default: break;
+            }
+            if (block_of[i] != prev_block) {
+                prev_block = block_of[i];
+                const std::int32_t slot = blocks.findOrCreate(prev_block);
+                if (static_cast<std::size_t>(slot) >= local_of_slot_.size())
+                    local_of_slot_.resize(static_cast<std::size_t>(slot) + 1, -1);
+                std::int32_t& l = local_of_slot_[static_cast<std::size_t>(slot)];
+                if (l < 0) {
+                    l = static_cast<std::int32_t>(local.size());
+                    local.emplace_back();
+                    local.back().slot = slot;
+                    count.push_back(0);
+                }
+                prev_local = l;
+            }
+            local_of_point[i] = prev_local;
+            ++count[static_cast<std::size_t>(prev_local)];
+        }
+        for (const LocalBlock& b : local) local_of_slot_[static_cast<std::size_t>(b.slot)] = -1;
+    }
+    st.points_integrated = n_points - st.dropped_non_finite - st.dropped_at_origin - st.dropped_range;
+    if (local.empty()) {
+        totals_ += st;
+        return st;
+    }
+    // Counting sort: `order` lists the valid points grouped by block, in scan order.
+    std::vector<std::uint32_t> order(st.points_integrated);
+    {
+        std::uint32_t offset = 0;
+        for (std::size_t b = 0; b < local.size(); ++b) {
+            local[b].begin = offset;
+            local[b].end = offset;
+            offset += count[b];
+        }
+        for (std::size_t i = 0; i < n_points; ++i) {
+            const std::int32_t l = local_of_point[i];
+            if (l >= 0) order[local[static_cast<std::size_t>(l)].end++] = static_cast<std::uint32_t>(i);
+        }
+    }
+
+    // ---- Phase 2 (parallel over blocks): merge statistics (Eq. 1), plane (Eq. 2, 3), eps (Eq. 4),
+    // and the leaves the block's updates can touch.
+    const double reach_m = trunc.max_m;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, local.size(), 16),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t b = r.begin(); b < r.end(); ++b) {
+            LocalBlock& lb = local[b];
+            BlockEntry& entry = blocks.entry(lb.slot);
+            BlockStats batch;
+            batch.n = static_cast<double>(lb.end - lb.begin);
+            for (std::uint32_t k = lb.begin; k < lb.end; ++k) batch.mean += points_W[order[k]].cast<double>();
+            batch.mean /= batch.n;
+            if (batch.n > 1.0) {
+                for (std::uint32_t k = lb.begin; k < lb.end; ++k) {
+                    const Vec3d d = points_W[order[k]].cast<double>() - batch.mean;
+                    batch.cov.noalias() += d * d.transpose();
+                }
+                batch.cov /= (batch.n - 1.0);
+            }
+            entry.stats = mergeStats(entry.stats, batch);
+            const PlaneEstimate plane =
+                estimatePlane(entry.stats, origin_W, config_.min_points_for_pca);
+            entry.plane_valid = plane.valid;
+            entry.normal_W = plane.normal.cast<float>();
+            entry.flatness = static_cast<float>(plane.flatness);
+            entry.truncation_m = static_cast<float>(truncationFor(trunc, plane, entry.stats.n));
+            // Leaves of each point's update segment [r - eps, r + eps] (+1 voxel margin).
+            const double eps = entry.truncation_m;
+            lb.leaves.clear();
+            for (std::uint32_t k = lb.begin; k < lb.end; ++k) {
+                const Vec3d p = points_W[order[k]].cast<double>();
+                const Vec3d dir = (p - origin_W).normalized();
+                const Coord c0 = detail::voxelOf(p - dir * eps, inv_vs);
+                const Coord c1 = detail::voxelOf(p + dir * eps, inv_vs);
+                const Coord lo = Coord::minComponent(c0, c1).offsetBy(-1);
+                const Coord hi = Coord::maxComponent(c0, c1).offsetBy(1);
+                for (int x = lo.x() & ~7; x <= hi.x(); x += 8)
+                    for (int y = lo.y() & ~7; y <= hi.y(); y += 8)
+                        for (int z = lo.z() & ~7; z <= hi.z(); z += 8) {
+                            const Coord o(x, y, z);
+                            if (std::find(lb.leaves.begin(), lb.leaves.end(), o) == lb.leaves.end())
+                                lb.leaves.push_back(o);
+                        }
+            }
+        }
+    });
+
+    // ---- Phase 3a (serial): allocate the leaves, in the same order on both trees.
+    openvdb::FloatTree& tsdf_tree = map_.tsdf()->tree();
+    openvdb::FloatTree& weight_tree = map_.weight()->tree();
+    {
+        openvdb::FloatGrid::Accessor ta = map_.tsdf()->getAccessor();
+        openvdb::FloatGrid::Accessor wa = map_.weight()->getAccessor();
+        for (const LocalBlock& lb : local)
+            for (const Coord& o : lb.leaves) {
+                ta.touchLeaf(o);
+                wa.touchLeaf(o);
+            }
+    }
+
+    // ---- Phase 3b: colour the blocks by cell (cell width >= update reach) and integrate.
+    const int reach_vox = static_cast<int>(std::ceil(reach_m * inv_vs)) + 2;
+    const int cell_blocks = std::max(1, (reach_vox + 7) / 8);
+    for (std::size_t b = 0; b < local.size(); ++b) {
+        const Coord& bc = blocks.blockCoord(local[b].slot);
+        const int cx = floorDiv(bc.x(), cell_blocks), cy = floorDiv(bc.y(), cell_blocks),
+                  cz = floorDiv(bc.z(), cell_blocks);
+        const std::uint64_t colour = static_cast<std::uint64_t>(mod3(cx) * 9 + mod3(cy) * 3 + mod3(cz));
+        const std::uint64_t cell = (static_cast<std::uint64_t>(cx & 0xFFFFF) << 40) |
+                                   (static_cast<std::uint64_t>(cy & 0xFFFFF) << 20) |
+                                   static_cast<std::uint64_t>(cz & 0xFFFFF);
+        local[b].sort_key = (colour << 60) | cell;
+    }
+    std::vector<std::uint32_t> by_cell(local.size());
+    for (std::size_t b = 0; b < local.size(); ++b) by_cell[b] = static_cast<std::uint32_t>(b);
+    std::sort(by_cell.begin(), by_cell.end(), [&](std::uint32_t a, std::uint32_t b) {
+        return local[a].sort_key != local[b].sort_key ? local[a].sort_key < local[b].sort_key : a < b;
+    });
+    // Cell ranges within by_cell, and the colour boundaries.
+    std::vector<std::uint32_t> cell_begin;
+    for (std::size_t i = 0; i < by_cell.size(); ++i)
+        if (i == 0 || local[by_cell[i]].sort_key != local[by_cell[i - 1]].sort_key)
+            cell_begin.push_back(static_cast<std::uint32_t>(i));
+    cell_begin.push_back(static_cast<std::uint32_t>(by_cell.size()));
+
+    const float max_weight = static_cast<float>(config_.max_weight);
+    const double floor_w = config_.weight_floor;
+    auto integrateCell = [&](std::size_t cell_index, LeafCache& cache) -> std::size_t {
+        std::size_t updates = 0;
+        for (std::uint32_t i = cell_begin[cell_index]; i < cell_begin[cell_index + 1]; ++i) {
+            const LocalBlock& lb = local[by_cell[i]];
+            const BlockEntry& entry = blocks.entry(lb.slot);
+            const double eps = entry.truncation_m;
+            for (std::uint32_t k = lb.begin; k < lb.end; ++k) {
+                const Vec3d p = points_W[order[k]].cast<double>();
+                const Vec3d ray = p - origin_W;
+                const Vec3d dir = ray / ray.norm();
+                // Degenerate block: the ray direction is the normal (sdf along the ray).
+                const Vec3d normal = entry.plane_valid ? Vec3d(entry.normal_W.cast<double>()) : Vec3d(-dir);
+                const double w_inc =
+                    entry.plane_valid ? incidenceWeight(normal, origin_W, p, floor_w) : 1.0;
+                detail::traverseSegment(p - dir * eps, dir, 2.0 * eps, inv_vs, [&](const Coord& v) {
+                    const Vec3d centre(v.x() * vs, v.y() * vs, v.z() * vs);
+                    double sdf = normal.dot(centre - p);
+                    if (sdf > eps) sdf = eps;
+                    if (sdf < -eps) sdf = -eps;
+                    const double w = w_inc * behindSurfaceFactor(sdf, eps, vs);
+                    if (!(w > 0.0) || !cache.fetch(v)) return;
+                    const openvdb::Index off = FloatLeaf::coordToOffset(v);
+                    const float wf = static_cast<float>(w);
+                    if (cache.t->isValueOn(off)) {
+                        const float W = cache.w->getValue(off);
+                        const float D = cache.t->getValue(off);
+                        cache.t->setValueOn(off, (W * D + wf * static_cast<float>(sdf)) / (W + wf));
+                        cache.w->setValueOn(off, std::min(W + wf, max_weight));
+                    } else {
+                        cache.t->setValueOn(off, static_cast<float>(sdf));
+                        cache.w->setValueOn(off, std::min(wf, max_weight));
+                    }
+                    ++updates;
+                });
+            }
+        }
+        return updates;
+    };
+    const std::size_t num_cells = cell_begin.size() - 1;
+    std::vector<std::size_t> updates_per_cell(num_cells, 0);
+    std::size_t colour_start = 0;
+    while (colour_start < num_cells) {
+        const std::uint64_t colour = local[by_cell[cell_begin[colour_start]]].sort_key >> 60;
+        std::size_t colour_end = colour_start;
+        while (colour_end < num_cells &&
+               (local[by_cell[cell_begin[colour_end]]].sort_key >> 60) == colour)
+            ++colour_end;
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(colour_start, colour_end, 1),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              LeafCache cache{tsdf_tree, weight_tree};
+                              for (std::size_t c = r.begin(); c < r.end(); ++c)
+                                  updates_per_cell[c] = integrateCell(c, cache);
+                          });
+        colour_start = colour_end;
+    }
+    for (std::size_t u : updates_per_cell) st.voxel_updates += u;
+
+    // ---- Optional space carving (serial, deterministic): free space in front of the band.
+    if (config_.space_carving) {
+        LeafCache cache{tsdf_tree, weight_tree};
+        const float free_sdf = static_cast<float>(trunc.max_m);
+        for (std::size_t i = 0; i < n_points; ++i) {
+            const std::int32_t l = local_of_point[i];
+            if (l < 0) continue;
+            const double eps = blocks.entry(local[static_cast<std::size_t>(l)].slot).truncation_m;
+            const Vec3d p = points_W[i].cast<double>();
+            const Vec3d ray = p - origin_W;
+            const double range = ray.norm();
+            if (range <= eps) continue;
+            detail::traverseSegment(origin_W, ray / range, range - eps - vs, inv_vs,
+                                    [&](const Coord& v) {
+                if (!cache.fetch(v)) return;
+                const openvdb::Index off = FloatLeaf::coordToOffset(v);
+                if (!cache.t->isValueOn(off)) return;
+                const float W = cache.w->getValue(off);
+                const float D = cache.t->getValue(off);
+                cache.t->setValueOn(off, (W * D + free_sdf) / (W + 1.0f));
+                cache.w->setValueOn(off, std::min(W + 1.0f, max_weight));
+                ++st.carving_updates;
+            });
+        }
+    }
+    totals_ += st;
+    return st;
+}
+
+void AtsdfIntegrator::finalize() {
+    openvdb::FloatGrid::Ptr tsdf = map_.tsdf();
+    openvdb::tools::pruneInactive(tsdf->tree());
+    openvdb::tools::pruneInactive(map_.weight()->tree());
+    // Per-voxel truncation (eps of the voxel's block), same transform and topology as the tsdf.
+    auto trunc_grid = openvdb::FloatGrid::create(static_cast<float>(config_.truncation.max_m));
+    trunc_grid->setTransform(map_.transform());
+    trunc_grid->tree().topologyUnion(tsdf->tree());
+    const BlockStatsGrid& blocks = map_.blockStats();
+    openvdb::tree::LeafManager<openvdb::FloatTree> leaves(trunc_grid->tree());
+    leaves.foreach([&](FloatLeaf& leaf, std::size_t) {
+        const std::int32_t slot = blocks.find(BlockStatsGrid::blockOf(leaf.origin()));
+        const float eps = slot >= 0 ? blocks.entry(slot).truncation_m
+                                    : static_cast<float>(config_.truncation.max_m);
+        for (auto it = leaf.beginValueOn(); it; ++it) it.setValue(eps);
+    });
+    trunc_grid->setGridClass(openvdb::GRID_FOG_VOLUME);
+    map_.setExtraGrid("truncation", trunc_grid);
+
+    openvdb::MetaMap& meta = map_.metadata();
+    meta.insertMeta("voxel_size_m", openvdb::DoubleMetadata(map_.voxelSize()));
+    meta.insertMeta("truncation_mode",
+                    openvdb::StringMetadata(truncationModeName(config_.truncation.mode)));
+    meta.insertMeta("truncation_min_m", openvdb::DoubleMetadata(config_.truncation.min_m));
+    meta.insertMeta("truncation_max_m", openvdb::DoubleMetadata(config_.truncation.max_m));
+    meta.insertMeta("flatness_k", openvdb::DoubleMetadata(config_.truncation.flatness_k));
+    meta.insertMeta("reference_points", openvdb::DoubleMetadata(config_.truncation.reference_points));
+    meta.insertMeta("weight_floor", openvdb::DoubleMetadata(config_.weight_floor));
+    meta.insertMeta("max_weight", openvdb::DoubleMetadata(config_.max_weight));
+    meta.insertMeta("space_carving", openvdb::BoolMetadata(config_.space_carving));
+    meta.insertMeta("scans_integrated", openvdb::Int64Metadata(static_cast<std::int64_t>(totals_.scans)));
+}
+
+}  // namespace vdbmap

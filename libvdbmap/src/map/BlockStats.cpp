@@ -1,0 +1,90 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "vdbmap/map/BlockStats.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+
+namespace vdbmap {
+
+BlockStats batchStats(const std::vector<Vec3d>& points) {
+    BlockStats s;
+    if (points.empty()) return s;
+    s.n = static_cast<double>(points.size());
+    for (const Vec3d& p : points) s.mean += p;
+    s.mean /= s.n;
+    if (points.size() < 2) return s;
+    for (const Vec3d& p : points) {
+        const Vec3d d = p - s.mean;
+        s.cov.noalias() += d * d.transpose();
+    }
+    s.cov /= (s.n - 1.0);
+    return s;
+}
+
+BlockStats mergeStats(const BlockStats& a, const BlockStats& b) {
+    if (a.n <= 0.0) return b;
+    if (b.n <= 0.0) return a;
+    BlockStats m;
+    m.n = a.n + b.n;
+    // Paper Eq. (1): E' = (n1 E1 + n2 E2) / (n1 + n2)
+    m.mean = (a.n * a.mean + b.n * b.mean) / m.n;
+    // Paper Eq. (1): C' = [(n1-1) C1 + (n2-1) C2 + n1 d1 d1^T + n2 d2 d2^T] / (n1 + n2 - 1)
+    const Vec3d d1 = m.mean - a.mean;
+    const Vec3d d2 = m.mean - b.mean;
+    m.cov = ((a.n - 1.0) * a.cov + (b.n - 1.0) * b.cov + a.n * d1 * d1.transpose() +
+             b.n * d2 * d2.transpose()) /
+            (m.n - 1.0);
+    return m;
+}
+
+PlaneEstimate estimatePlane(const BlockStats& stats, const Vec3d& sensor_W, int min_points,
+                            double collinear_ratio) {
+    PlaneEstimate plane;
+    if (stats.n < static_cast<double>(min_points) || stats.n < 3.0) return plane;
+    // Closed-form 3x3 solver: eigenvalues in increasing order.
+    Eigen::SelfAdjointEigenSolver<Mat3d> solver;
+    solver.computeDirect(stats.cov);
+    const Vec3d ev = solver.eigenvalues();
+    const double l1 = ev(2), l2 = ev(1), l3 = std::max(ev(0), 0.0);
+    plane.eigenvalues = Vec3d(l1, l2, l3);
+    if (!(l2 > collinear_ratio * l1) || !(l2 > 0.0)) return plane;  // collinear or one point
+    Vec3d v3 = solver.eigenvectors().col(0);
+    const double norm = v3.norm();
+    if (!(norm > 0.0)) return plane;
+    v3 /= norm;
+    // Paper Eq. (2): orient the normal towards the sensor.
+    plane.normal = v3.dot(sensor_W - stats.mean) > 0.0 ? v3 : Vec3d(-v3);
+    // Paper Eq. (3): P_flat = 1 - lambda3 / lambda2.
+    plane.flatness = std::clamp(1.0 - l3 / l2, 0.0, 1.0);
+    plane.valid = true;
+    return plane;
+}
+
+BlockStatsGrid::BlockStatsGrid() : index_tree_(-1) {}
+
+std::int32_t BlockStatsGrid::find(const openvdb::Coord& block) const {
+    return index_tree_.getValue(block);
+}
+
+std::int32_t BlockStatsGrid::findOrCreate(const openvdb::Coord& block) {
+    std::int32_t index = index_tree_.getValue(block);
+    if (index >= 0) return index;
+    index = static_cast<std::int32_t>(entries_.size());
+    entries_.emplace_back();
+    coords_.push_back(block);
+    index_tree_.setValueOn(block, index);
+    return index;
+}
+
+std::size_t BlockStatsGrid::memoryBytes() const {
+    return entries_.capacity() * sizeof(BlockEntry) + coords_.capacity() * sizeof(openvdb::Coord) +
+           static_cast<std::size_t>(index_tree_.memUsage());
+}
+
+double BlockStatsGrid::bytesPerBlock() const {
+    if (entries_.empty()) return 0.0;
+    return static_cast<double>(memoryBytes()) / static_cast<double>(entries_.size());
+}
+
+}  // namespace vdbmap

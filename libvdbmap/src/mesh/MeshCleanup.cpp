@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "vdbmap/mesh/MeshCleanup.h"
+
+#include <numeric>
+
+namespace vdbmap {
+namespace {
+
+std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t v) {
+    while (parent[v] != v) {
+        parent[v] = parent[parent[v]];
+        v = parent[v];
+    }
+    return v;
+}
+
+}  // namespace
+
+std::size_t removeSmallComponents(std::vector<std::array<std::uint32_t, 3>>& faces,
+                                  std::size_t num_vertices, int min_faces,
+                                  std::size_t* faces_removed) {
+    if (faces_removed) *faces_removed = 0;
+    if (min_faces <= 1 || faces.empty()) return 0;
+    // Union-find over vertices: faces that share a vertex are in one component.
+    std::vector<std::uint32_t> parent(num_vertices);
+    std::iota(parent.begin(), parent.end(), 0u);
+    for (const auto& f : faces) {
+        const std::uint32_t r0 = findRoot(parent, f[0]);
+        for (int k = 1; k < 3; ++k) {
+            const std::uint32_t rk = findRoot(parent, f[static_cast<std::size_t>(k)]);
+            if (rk != r0) parent[rk] = r0;
+        }
+    }
+    std::vector<std::uint32_t> face_count(num_vertices, 0);
+    for (const auto& f : faces) ++face_count[findRoot(parent, f[0])];
+    std::size_t components_removed = 0;
+    for (std::size_t v = 0; v < num_vertices; ++v)
+        if (parent[v] == v && face_count[v] > 0 &&
+            face_count[v] < static_cast<std::uint32_t>(min_faces))
+            ++components_removed;
+    std::size_t kept = 0;
+    for (const auto& f : faces)
+        if (face_count[findRoot(parent, f[0])] >= static_cast<std::uint32_t>(min_faces))
+            faces[kept++] = f;
+    if (faces_removed) *faces_removed = faces.size() - kept;
+    faces.resize(kept);
+    return components_removed;
+}
+
+}  // namespace vdbmap

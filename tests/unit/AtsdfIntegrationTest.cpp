@@ -1,0 +1,163 @@
+// SPDX-License-Identifier: Apache-2.0
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <limits>
+
+#include "support/MapTestUtil.h"
+#include "support/SimLidar.h"
+#include "vdbmap/Error.h"
+#include "vdbmap/map/AtsdfIntegrator.h"
+#include "vdbmap/map/BlockStats.h"
+#include "vdbmap/map/VoxelMap.h"
+#include "vdbmap/mesh/MarchingCubes.h"
+
+using namespace vdbmap;
+using namespace vdbmap::test;
+
+TEST_CASE("Bad input is counted and skipped", "[tsdf][integrate]") {
+    VoxelMap map(0.1, 0.3f);
+    AtsdfIntegrator integrator(map, AtsdfConfig{});
+    const Vec3d origin(1, 2, 3);
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const float inf = std::numeric_limits<float>::infinity();
+    std::vector<Vec3f> pts = {Vec3f(nan, 0, 0), Vec3f(0, inf, 0), origin.cast<float>(),
+                              Vec3f(1e9f, 0, 0), Vec3f(1, 2, 0), Vec3f(1.05f, 2, 0)};
+    const IntegrationStats s = integrator.integrateScan(pts, origin);
+    CHECK(s.points_in == 6);
+    CHECK(s.dropped_non_finite == 2);
+    CHECK(s.dropped_at_origin == 1);
+    CHECK(s.dropped_range == 1);
+    CHECK(s.points_integrated == 2);
+    CHECK(s.voxel_updates > 0);
+    CHECK(map.tsdf()->activeVoxelCount() > 0);
+
+    SECTION("an empty scan is a no-op") {
+        const auto before = map.tsdf()->activeVoxelCount();
+        const IntegrationStats e = integrator.integrateScan(std::vector<Vec3f>{}, origin);
+        CHECK(e.points_in == 0);
+        CHECK(e.voxel_updates == 0);
+        CHECK(map.tsdf()->activeVoxelCount() == before);
+    }
+    SECTION("a non-finite sensor origin drops the whole scan") {
+        const IntegrationStats e =
+            integrator.integrateScan(pts, Vec3d(std::numeric_limits<double>::quiet_NaN(), 0, 0));
+        CHECK(e.dropped_non_finite == pts.size());
+        CHECK(e.voxel_updates == 0);
+    }
+}
+
+TEST_CASE("Bad configuration is rejected with the key name", "[tsdf][integrate]") {
+    VoxelMap map(0.1);
+    AtsdfConfig c;
+    c.weight_floor = 0.0;
+    CHECK_THROWS_WITH(AtsdfIntegrator(map, c), Catch::Contains("weight_floor"));
+    CHECK_THROWS_AS(VoxelMap(-0.1), InvalidInput);
+    CHECK_THROWS_AS(VoxelMap(std::nan("")), InvalidInput);
+}
+
+TEST_CASE("Plane at a non-voxel-aligned offset: SDF and mesh match the closed form",
+          "[tsdf][integrate]") {
+    const double vs = 0.1, z0 = -1.6663, sigma = 0.005;
+    SimScene scene;
+    scene.add(SimPlane{Vec3d(0, 0, z0), Vec3d::UnitZ()});
+    SimLidarConfig lidar;
+    lidar.azimuth_steps = 1024;
+    lidar.noise_sigma_m = sigma;
+    std::vector<Isometry3d> poses;
+    for (int i = 0; i < 4; ++i) poses.push_back(poseAt(Vec3d(0.37 * i, 0.11 * i, 0.0)));
+
+    VoxelMap map(vs, 0.3f);
+    AtsdfIntegrator integrator(map, AtsdfConfig{});
+    const IntegrationStats s = integrateScans(integrator, scene, lidar, poses);
+    REQUIRE(s.points_integrated > 20000);
+
+    // Every observed voxel (weight >= 1, within 10 m, not clamped) against z - z0.
+    std::size_t checked = 0;
+    double max_err = 0.0;
+    auto wacc = map.weight()->getConstAccessor();
+    const BlockStatsGrid& blocks = map.blockStats();
+    for (auto it = map.tsdf()->cbeginValueOn(); it; ++it) {
+        const openvdb::Coord c = it.getCoord();
+        const Vec3d x(c.x() * vs, c.y() * vs, c.z() * vs);
+        const double truth = x.z() - z0;
+        if (std::hypot(x.x(), x.y()) > 10.0 || std::abs(truth) > 0.1 || wacc.getValue(c) < 1.0f)
+            continue;
+        const auto slot = blocks.find(BlockStatsGrid::blockOf(c));
+        if (slot < 0 || !blocks.entry(slot).plane_valid) continue;
+        max_err = std::max(max_err, std::abs(*it - truth));
+        ++checked;
+    }
+    INFO("checked " << checked << " voxels, max error " << max_err);
+    REQUIRE(checked > 1000);
+    CHECK(max_err <= 0.1 * vs + 3.0 * sigma);
+
+    const auto mesh = extractMesh(map, MarchingCubesConfig{});
+    REQUIRE(mesh->n_faces() > 1000);
+    double max_v = 0.0;
+    std::size_t near = 0;
+    for (auto v : mesh->vertices()) {
+        const auto p = mesh->point(v);
+        if (std::hypot(p[0], p[1]) > 10.0) continue;
+        max_v = std::max(max_v, std::abs(p[2] - z0));
+        ++near;
+    }
+    INFO("vertices " << near << " max |z - z0| " << max_v);
+    CHECK(near > 1000);
+    CHECK(max_v <= 0.1 * vs + 3.0 * sigma);
+    // Normals point up, towards the sensor side.
+    float min_nz = 1.0f;
+    for (auto v : mesh->vertices())
+        if (std::hypot(mesh->point(v)[0], mesh->point(v)[1]) < 10.0)
+            min_nz = std::min(min_nz, mesh->normal(v)[2]);
+    CHECK(min_nz > 0.9f);
+}
+
+TEST_CASE("Fixed mode runs through the same code path with eps_max everywhere",
+          "[tsdf][integrate]") {
+    SimScene scene;
+    scene.add(SimPlane{Vec3d(0, 0, -1.7), Vec3d::UnitZ()});
+    SimLidarConfig lidar;
+    lidar.azimuth_steps = 512;
+    VoxelMap map(0.1, 0.3f);
+    AtsdfConfig c;
+    c.truncation.mode = TruncationMode::Fixed;
+    AtsdfIntegrator integrator(map, c);
+    integrateScans(integrator, scene, lidar, {poseAt(Vec3d::Zero())});
+    const BlockStatsGrid& blocks = map.blockStats();
+    REQUIRE(blocks.size() > 0);
+    for (std::size_t i = 0; i < blocks.size(); ++i)
+        CHECK(blocks.entry(static_cast<std::int32_t>(i)).truncation_m == Approx(0.3f));
+    integrator.finalize();
+    REQUIRE(map.extraGrids().count("truncation") == 1);
+}
+
+TEST_CASE("Space carving pushes previously observed voxels towards free space",
+          "[tsdf][integrate]") {
+    // A wall at x = 5 is observed, then removed; the wall behind at x = 8 is seen instead.
+    SimScene with_wall, without_wall;
+    with_wall.add(SimPlane{Vec3d(5, 0, 0), -Vec3d::UnitX()});
+    without_wall.add(SimPlane{Vec3d(8, 0, 0), -Vec3d::UnitX()});
+    SimLidarConfig lidar;
+    lidar.azimuth_steps = 256;
+    lidar.elevation_min_deg = -10;
+    lidar.elevation_max_deg = 10;
+    lidar.beams = 32;
+    auto run = [&](bool carve) {
+        VoxelMap map(0.1, 0.3f);
+        AtsdfConfig c;
+        c.space_carving = carve;
+        AtsdfIntegrator integrator(map, c);
+        integrateScans(integrator, with_wall, lidar, {poseAt(Vec3d::Zero())});
+        IntegrationStats s;
+        for (int i = 0; i < 5; ++i)
+            s += integrateScans(integrator, without_wall, lidar, {poseAt(Vec3d::Zero())});
+        return std::make_pair(map.tsdf()->tree().getValue(openvdb::Coord(51, 0, 0)), s.carving_updates);
+    };
+    const auto [kept, no_updates] = run(false);
+    const auto [carved, updates] = run(true);
+    CHECK(no_updates == 0);
+    CHECK(updates > 0);
+    CHECK(kept < 0.0f);    // just behind the old wall: still "inside"
+    CHECK(carved > 0.0f);  // carving made it free space
+}

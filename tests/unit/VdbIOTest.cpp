@@ -1,0 +1,82 @@
+// SPDX-License-Identifier: Apache-2.0
+#include <catch2/catch.hpp>
+#include <openvdb/io/File.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "support/MapTestUtil.h"
+#include "support/SimLidar.h"
+#include "vdbmap/Error.h"
+#include "vdbmap/map/AtsdfIntegrator.h"
+#include "vdbmap/map/VdbIO.h"
+#include "vdbmap/map/VoxelMap.h"
+
+using namespace vdbmap;
+using namespace vdbmap::test;
+namespace fs = std::filesystem;
+
+TEST_CASE("map.vdb round trip: grids, classes, values and metadata", "[tsdf][vdb]") {
+    SimScene scene;
+    scene.add(SimPlane{Vec3d(0, 0, -1.7), Vec3d::UnitZ()});
+    scene.add(SimSphere{Vec3d(5, 0, 0), 1.0});
+    SimLidarConfig lidar;
+    lidar.azimuth_steps = 512;
+    VoxelMap map(0.1, 0.3f);
+    AtsdfIntegrator integrator(map, AtsdfConfig{});
+    integrateScans(integrator, scene, lidar, {poseAt(Vec3d::Zero())});
+    integrator.finalize();
+
+    const fs::path dir = fs::path(VDBMAP_BINARY_DIR) / "test_out" / "VdbIOTest";
+    fs::remove_all(dir);
+    const fs::path path = dir / "map.vdb";
+    writeMapVdb(path, map);
+    REQUIRE(fs::exists(path));
+    for (const auto& e : fs::directory_iterator(dir)) CHECK(e.path().filename() == "map.vdb");
+
+    openvdb::io::File file(path.string());
+    file.open();
+    const auto meta = file.getMetadata();
+    REQUIRE(meta);
+    CHECK(meta->metaValue<std::string>("creator").rfind("vdbmap ", 0) == 0);
+    CHECK(meta->metaValue<double>("voxel_size_m") == Approx(0.1));
+    CHECK(meta->metaValue<std::string>("truncation_mode") == "adaptive");
+    CHECK(meta->metaValue<double>("truncation_min_m") == Approx(0.1));
+    CHECK(meta->metaValue<double>("truncation_max_m") == Approx(0.3));
+    CHECK(meta->metaValue<double>("flatness_k") == Approx(1.0));
+
+    auto surface = openvdb::gridPtrCast<openvdb::FloatGrid>(file.readGrid("surface"));
+    auto weight = openvdb::gridPtrCast<openvdb::FloatGrid>(file.readGrid("weight"));
+    auto trunc = openvdb::gridPtrCast<openvdb::FloatGrid>(file.readGrid("truncation"));
+    file.close();
+    REQUIRE(surface);
+    REQUIRE(weight);
+    REQUIRE(trunc);
+    CHECK(surface->getGridClass() == openvdb::GRID_LEVEL_SET);
+    CHECK(surface->voxelSize()[0] == Approx(0.1));
+    CHECK(surface->activeVoxelCount() == map.tsdf()->activeVoxelCount());
+    CHECK(maxGridDifference(*surface, *map.tsdf()) == 0.0);
+    CHECK(maxGridDifference(*weight, *map.weight()) == 0.0);
+    CHECK(trunc->activeVoxelCount() == map.tsdf()->activeVoxelCount());
+    float lo = 1e9f, hi = -1e9f;
+    for (auto it = trunc->cbeginValueOn(); it; ++it) {
+        lo = std::min(lo, *it);
+        hi = std::max(hi, *it);
+    }
+    CHECK(lo >= 0.1f - 1e-6f);
+    CHECK(hi <= 0.3f + 1e-6f);
+    CHECK(lo < hi);  // adaptive: not one value everywhere
+}
+
+TEST_CASE("writeMapVdb into an impossible path throws IoError and leaves nothing",
+          "[tsdf][vdb]") {
+    VoxelMap map(0.1);
+    const fs::path dir = fs::path(VDBMAP_BINARY_DIR) / "test_out" / "VdbIOTestBad";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    std::ofstream(dir / "not_a_dir") << "x";
+    CHECK_THROWS_AS(writeMapVdb(dir / "not_a_dir" / "map.vdb", map), Error);
+    std::size_t files = 0;
+    for (const auto& e : fs::recursive_directory_iterator(dir)) files += e.is_regular_file() ? 1 : 0;
+    CHECK(files == 1);
+}
