@@ -1,0 +1,106 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "FaceStats.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <opencv2/imgproc.hpp>
+
+#include "Raster.h"
+#include "vdbmap/Error.h"
+
+namespace vdbmap::texture {
+
+cv::Mat toFloatBgr(const cv::Mat& bgr_u8) {
+    if (bgr_u8.empty() || bgr_u8.type() != CV_8UC3) {
+        throw InvalidInput("texture: expected an 8-bit 3-channel image, got " +
+                           (bgr_u8.empty() ? std::string("an empty image")
+                                           : "type " + std::to_string(bgr_u8.type())));
+    }
+    cv::Mat out;
+    bgr_u8.convertTo(out, CV_32FC3);
+    return out;
+}
+
+cv::Mat gradientMagnitude(const cv::Mat& bgr_f32) {
+    cv::Mat grey, gx, gy, magnitude;
+    cv::cvtColor(bgr_f32, grey, cv::COLOR_BGR2GRAY);
+    // Sobel 3x3 sums 8x the derivative of a linear ramp: scale back to intensity per pixel.
+    cv::Sobel(grey, gx, CV_32F, 1, 0, 3, 1.0 / 8.0, 0, cv::BORDER_REPLICATE);
+    cv::Sobel(grey, gy, CV_32F, 0, 1, 3, 1.0 / 8.0, 0, cv::BORDER_REPLICATE);
+    cv::magnitude(gx, gy, magnitude);
+    return magnitude;
+}
+
+std::vector<std::vector<std::uint64_t>> observationsPerView(const Visibility& vis,
+                                                             std::size_t num_views) {
+    std::vector<std::vector<std::uint64_t>> per_view(num_views);
+    for (std::uint64_t i = 0; i < vis.obs.size(); ++i) {
+        const std::uint32_t view = vis.obs[i].view;
+        if (view >= num_views) {
+            throw InvalidInput("texture: visibility refers to view " + std::to_string(view) +
+                               " but there are " + std::to_string(num_views) + " views");
+        }
+        per_view[view].push_back(i);
+    }
+    return per_view;
+}
+
+void computeObservationStats(const cv::Mat& bgr_f32, const Visibility& vis,
+                             const std::vector<std::uint64_t>& obs_indices, bool with_quality,
+                             std::vector<ObservationStats>& stats) {
+    if (obs_indices.empty()) return;
+    // Channels: B G R |grad|; integral image in double (exact sums of ~1e6 values).
+    cv::Mat channels;
+    if (with_quality) {
+        cv::Mat grad = gradientMagnitude(bgr_f32);
+        cv::merge(std::vector<cv::Mat>{bgr_f32, grad}, channels);
+    } else {
+        channels = bgr_f32;
+    }
+    const int num_channels = channels.channels();
+    cv::Mat integral;
+    cv::integral(channels, integral, CV_64F);
+    const int width = bgr_f32.cols, height = bgr_f32.rows;
+    const int stride = num_channels;
+    auto at = [&](int y, int x) { return integral.ptr<double>(y) + x * stride; };
+
+    for (const std::uint64_t index : obs_indices) {
+        const FaceObservation& obs = vis.obs[index];
+        double sums[4] = {0, 0, 0, 0};
+        const long covered =
+            rasterizeSpans(obs.pixels, width, height, [&](int y, int x_begin, int x_end) {
+                const double* a = at(y, x_begin);
+                const double* b = at(y, x_end);
+                const double* c = at(y + 1, x_begin);
+                const double* d = at(y + 1, x_end);
+                for (int k = 0; k < num_channels; ++k) sums[k] += d[k] - c[k] - b[k] + a[k];
+            });
+        ObservationStats& out = stats[index];
+        if (covered > 0) {
+            out.pixels = static_cast<std::uint32_t>(covered);
+            out.mean_bgr = Vec3f(float(sums[0] / covered), float(sums[1] / covered),
+                                 float(sums[2] / covered));
+            out.quality = with_quality ? static_cast<float>(sums[3]) : 0.0f;
+        } else {
+            // Smaller than a pixel: the pixel nearest to the centroid, weighted by the area.
+            const Eigen::Vector2f centroid = (obs.pixels[0] + obs.pixels[1] + obs.pixels[2]) / 3.0f;
+            const int x = std::clamp(static_cast<int>(std::lround(centroid.x())), 0, width - 1);
+            const int y = std::clamp(static_cast<int>(std::lround(centroid.y())), 0, height - 1);
+            const cv::Vec3f c = bgr_f32.at<cv::Vec3f>(y, x);
+            out.pixels = 1;
+            out.mean_bgr = Vec3f(c[0], c[1], c[2]);
+            if (with_quality) {
+                const double* a = at(y, x);
+                const double* b = at(y, x + 1);
+                const double* cc = at(y + 1, x);
+                const double* d = at(y + 1, x + 1);
+                out.quality = static_cast<float>((d[3] - cc[3] - b[3] + a[3]) * obs.area_px);
+            } else {
+                out.quality = 0.0f;
+            }
+        }
+    }
+}
+
+}  // namespace vdbmap::texture

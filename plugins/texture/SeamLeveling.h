@@ -1,0 +1,60 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "TextureTypes.h"
+
+namespace vdbmap::texture {
+
+/// A mesh edge between two faces of different patches: the seam that global colour
+/// adjustment levels. Vertex v0 and v1 are the shared vertices.
+struct SeamEdge {
+    std::uint32_t face_a = 0, face_b = 0;
+    std::uint32_t v0 = 0, v1 = 0;
+};
+
+/// Colours sampled along one seam edge, near each end, in the view of each side (0..255 BGR):
+/// f_{v^l} and f_{v^r} of the paper's seam-levelling equation.
+struct SeamSamples {
+    Vec3f a_v0 = Vec3f::Zero(), a_v1 = Vec3f::Zero();  ///< in face_a's view
+    Vec3f b_v0 = Vec3f::Zero(), b_v1 = Vec3f::Zero();  ///< in face_b's view
+};
+
+/// Every edge shared by two faces of different patches (both textured).
+std::vector<SeamEdge> findSeamEdges(const MeshArrays& mesh,
+                                    const std::vector<std::uint32_t>& face_patch,
+                                    const std::vector<std::array<std::uint32_t, 2>>& adjacency);
+
+/// Options of the global colour adjustment.
+struct SeamLevelingOptions {
+    double smoothness = 0.1;    ///< weight of (g_i - g_j)^2 along edges inside a patch
+    double regularizer = 1e-4;  ///< weight of g^2: picks the smallest correction
+    int max_iterations = 2000;  ///< conjugate gradient
+    double tolerance = 1e-6;    ///< conjugate gradient, relative residual
+};
+
+/// Result: an additive correction per face corner (0 for faces without a patch).
+struct SeamLevelingResult {
+    std::vector<std::array<Vec3f, 3>> corner_correction;  ///< per face, BGR, 0..255 units
+    std::size_t unknowns = 0;     ///< (patch, vertex) pairs
+    std::size_t seam_terms = 0;   ///< seam vertex constraints
+    int iterations = 0;           ///< CG iterations (max over channels)
+    double max_abs_correction = 0;
+};
+
+/// Lempitsky & Ivanov's global colour adjustment (paper Eq. seam_levelling): vertices on seams
+/// are split per patch, one additive correction g per (patch, vertex), and
+///   sum_seam-vertices (f_l + g_l - f_r - g_r)^2 + smoothness * sum_patch-edges (g_i - g_j)^2
+///   + regularizer * sum g^2
+/// is minimised as sparse least squares (Eigen ConjugateGradient), one solve per channel.
+/// `samples[k]` belongs to `seams[k]`. Throws InvalidInput on mismatched sizes.
+SeamLevelingResult solveSeamLeveling(const MeshArrays& mesh,
+                                     const std::vector<std::uint32_t>& face_patch,
+                                     const std::vector<SeamEdge>& seams,
+                                     const std::vector<SeamSamples>& samples,
+                                     const SeamLevelingOptions& options);
+
+}  // namespace vdbmap::texture

@@ -1,0 +1,66 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "AtlasPacker.h"
+#include "Patches.h"
+#include "TextureTypes.h"
+
+namespace vdbmap::texture {
+
+/// A rectangle of one view's image copied into the atlas: a whole patch, or one face of a
+/// patch too large for a page.
+struct Chart {
+    std::uint32_t patch = 0;
+    std::uint32_t view = 0;
+    std::vector<std::uint32_t> faces;
+    int x0 = 0, y0 = 0;  ///< top-left source pixel in the view's image (may lie outside it)
+    RectSize size;       ///< including the padding border
+    RectPlacement place; ///< in the atlas
+};
+
+/// Where every face's texture lives.
+struct AtlasLayout {
+    std::vector<Chart> charts;
+    std::vector<RectSize> pages;
+    std::vector<std::uint32_t> face_chart;  ///< per face; kNoLabel = untextured (fill block)
+    bool has_fill_block = false;
+    RectPlacement fill_place;               ///< the grey block for faces no view saw
+    int fill_size = 0;
+};
+
+/// Lays out the patches: each becomes one chart, the bounding box of its faces' projections
+/// (`face_pixels[f]`, in the face's chosen view) grown by `padding_px` on every side (real
+/// image pixels around the faces, against bleeding under bilinear lookup and mip-mapping).
+/// A patch wider or taller than `max_size_px` is split into one chart per face. If any face
+/// has no patch, a small fill block is added. Then all charts are packed (packRects).
+AtlasLayout layoutAtlas(const std::vector<Patch>& patches,
+                        const std::vector<std::array<Eigen::Vector2f, 3>>& face_pixels,
+                        std::size_t num_faces, int padding_px, int max_size_px);
+
+/// Copies the chart's source rectangle of `image_f32` (CV_32FC3, coordinates clamped to the
+/// image) into `page` (CV_8UC3) at its placement, rounding and saturating.
+void cutChart(const cv::Mat& image_f32, const Chart& chart, cv::Mat& page);
+
+/// Adds the global colour adjustment to a chart already in `page`: inside each face the
+/// correction is interpolated barycentrically from its corners (paper Sec. 5.2.3); padding
+/// pixels take the correction of the nearest face pixel (breadth-first), so the border keeps
+/// matching its face.
+void applyChartCorrection(const Chart& chart,
+                          const std::vector<std::array<Eigen::Vector2f, 3>>& face_pixels,
+                          const std::vector<std::array<Vec3f, 3>>& corner_correction,
+                          cv::Mat& page);
+
+/// Texture coordinates of every face corner in OBJ convention (u right, v up, (0,0) the
+/// bottom-left corner of the page, pixel centres at (i + 0.5) / size), and the page of each
+/// face. Faces without a chart map to the centre of the fill block.
+void faceUvs(const AtlasLayout& layout,
+             const std::vector<std::array<Eigen::Vector2f, 3>>& face_pixels,
+             std::vector<std::array<Eigen::Vector2f, 3>>& uvs, std::vector<std::uint32_t>& pages);
+
+}  // namespace vdbmap::texture

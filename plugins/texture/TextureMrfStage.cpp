@@ -1,0 +1,224 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "TextureMrfStage.h"
+
+#include <sstream>
+
+#include "ObjExport.h"
+#include "TexturePipeline.h"
+#include "vdbmap/core/Log.h"
+#include "vdbmap/core/Timer.h"
+#include "vdbmap/io/Dataset.h"
+#include "vdbmap/io/Image.h"
+#include "vdbmap/map/Layers.h"
+#include "vdbmap/mesh/MeshAdjacency.h"
+#include "vdbmap/mrf/PottsMrf.h"
+#include "vdbmap/pipeline/Context.h"
+#include "vdbmap/pipeline/Report.h"
+#include "vdbmap/render/Raycaster.h"
+#include "vdbmap/render/Visibility.h"
+
+namespace vdbmap::texture {
+
+void TextureMrfStage::declareOptions(OptionSpec& spec) {
+    spec.add("mrf", "View selection by the Potts MRF (alpha-expansion); false = per-face best view",
+             mrf_, true);
+    spec.add("lambda", "Weight of the Potts smoothness against the per-face data cost in [0, 1]",
+             lambda_, 1.0);
+    spec.add("vignetting", "Correct vignetting I' = g(r) I before anything else", vignetting_,
+             false);
+    spec.add("vignetting_params",
+             "a b c of g(r) = 1 + a r^2 + b r^4 + c r^6: 3 values for every camera, or 3 per "
+             "camera in dataset order",
+             vignetting_params_, std::vector<double>{});
+    spec.add("estimate_vignetting",
+             "Estimate a b c per camera from overlapping observations (needs vignetting: true)",
+             estimate_vignetting_, false);
+    spec.add("photo_consistency", "Reject outlier views per face (Waechter et al. 2014, HSV)",
+             photo_consistency_, true);
+    spec.add("photo_max_distance", "Photo-consistency: reject views farther than this (sigmas)",
+             photo_max_distance_, 2.5);
+    spec.add("photo_min_views", "Photo-consistency: only faces seen by at least this many views",
+             photo_min_views_, 3);
+    spec.add("global_adjustment", "Global colour adjustment (seam levelling, Lempitsky-Ivanov)",
+             global_adjustment_, true);
+    spec.add("seam_smoothness", "Global adjustment: weight of the smoothness of g inside patches",
+             seam_smoothness_, 0.1);
+    spec.add("padding_px", "Border of real image pixels around each chart against bleeding",
+             padding_px_, 2, "px");
+    spec.add("atlas_max_size_px", "Largest atlas page side", atlas_max_size_px_, 8192, "px");
+    spec.add("max_view_angle_deg", "Reject views seeing a face flatter than this",
+             max_view_angle_deg_, 80.0, "deg");
+    spec.add("min_depth_m", "Nearest visible depth", min_depth_m_, 0.1, "m");
+    spec.add("max_depth_m", "Farthest visible depth", max_depth_m_, 200.0, "m");
+    spec.add("occlusion_test", "Test occlusion by the mesh itself (Embree BVH)", occlusion_test_,
+             true);
+    spec.add("output_subdir", "Folder below the output folder for mesh.obj/.mtl and atlases",
+             output_subdir_, std::string("textured"));
+}
+
+void TextureMrfStage::initialize() {
+    if (lambda_ < 0) failConfig("option 'lambda' must be >= 0, got " + std::to_string(lambda_));
+    if (vignetting_params_.size() % 3 != 0) {
+        failConfig("option 'vignetting_params' needs 3 values per camera, got " +
+                   std::to_string(vignetting_params_.size()));
+    }
+    if (estimate_vignetting_ && !vignetting_) {
+        failConfig("option 'estimate_vignetting' needs 'vignetting: true'");
+    }
+    if (vignetting_ && !estimate_vignetting_ && vignetting_params_.empty()) {
+        failConfig("option 'vignetting' is on but 'vignetting_params' is empty and "
+                   "'estimate_vignetting' is off");
+    }
+    if (padding_px_ < 1 || padding_px_ > 64) {
+        failConfig("option 'padding_px' must be in [1, 64], got " + std::to_string(padding_px_));
+    }
+    if (atlas_max_size_px_ < 64 || atlas_max_size_px_ > 8192) {
+        failConfig("option 'atlas_max_size_px' must be in [64, 8192], got " +
+                   std::to_string(atlas_max_size_px_));
+    }
+    if (!(max_view_angle_deg_ > 0 && max_view_angle_deg_ <= 90)) {
+        failConfig("option 'max_view_angle_deg' must be in (0, 90], got " +
+                   std::to_string(max_view_angle_deg_));
+    }
+    if (!(min_depth_m_ >= 0 && max_depth_m_ > min_depth_m_)) {
+        failConfig("options 'min_depth_m' and 'max_depth_m' must satisfy 0 <= min < max, got " +
+                   std::to_string(min_depth_m_) + " and " + std::to_string(max_depth_m_));
+    }
+    if (photo_max_distance_ <= 0) {
+        failConfig("option 'photo_max_distance' must be > 0, got " +
+                   std::to_string(photo_max_distance_));
+    }
+    if (seam_smoothness_ < 0) {
+        failConfig("option 'seam_smoothness' must be >= 0, got " + std::to_string(seam_smoothness_));
+    }
+    if (output_subdir_.empty()) failConfig("option 'output_subdir' must not be empty");
+}
+
+void TextureMrfStage::declareLayers(LayerSpec& spec) const {
+    spec.reads(layers::kMesh);
+    spec.reads(layers::kImages);
+    spec.writes(layers::kTexture);
+}
+
+void TextureMrfStage::run(Context& ctx) {
+    TriMesh& tri_mesh = ctx.mesh();
+    const Dataset& dataset = ctx.dataset();
+    const std::string stage(name());
+    Report& report = ctx.report();
+    Timer total;
+
+    TextureOptions options;
+    options.use_mrf = mrf_;
+    options.lambda = lambda_;
+    options.vignetting = vignetting_;
+    options.estimate_vignetting = estimate_vignetting_;
+    const std::size_t num_cameras = dataset.cameras().size();
+    if (vignetting_params_.size() == 3) {
+        options.vignetting_params.assign(
+            num_cameras, {vignetting_params_[0], vignetting_params_[1], vignetting_params_[2]});
+    } else if (!vignetting_params_.empty()) {
+        if (vignetting_params_.size() != 3 * num_cameras) {
+            fail("option 'vignetting_params' has " + std::to_string(vignetting_params_.size()) +
+                 " values but the dataset has " + std::to_string(num_cameras) +
+                 " cameras (3 values, or 3 per camera)");
+        }
+        for (std::size_t c = 0; c < num_cameras; ++c) {
+            options.vignetting_params.push_back({vignetting_params_[3 * c],
+                                                 vignetting_params_[3 * c + 1],
+                                                 vignetting_params_[3 * c + 2]});
+        }
+    }
+    options.photo_consistency = photo_consistency_;
+    options.photo.max_distance = photo_max_distance_;
+    options.photo.min_views = photo_min_views_;
+    options.global_adjustment = global_adjustment_;
+    options.leveling.smoothness = seam_smoothness_;
+    options.padding_px = padding_px_;
+    options.atlas_max_size_px = atlas_max_size_px_;
+    options.quiet = ctx.quiet();
+
+    const MeshArrays mesh = meshArrays(tri_mesh);
+    if (mesh.faces.empty()) fail("the mesh has no faces: nothing to texture");
+    const std::vector<View> views = datasetViews(dataset, true, false);
+    if (views.empty()) fail("the dataset has no colour images: nothing to texture from");
+
+    Timer step;
+    VisibilityOptions vis_options;
+    vis_options.max_view_angle_deg = max_view_angle_deg_;
+    vis_options.min_depth_m = min_depth_m_;
+    vis_options.max_depth_m = max_depth_m_;
+    vis_options.occlusion_test = occlusion_test_;
+    const Raycaster raycaster = Raycaster::fromMesh(tri_mesh);
+    const Visibility vis =
+        computeVisibility(tri_mesh, views, vis_options, occlusion_test_ ? &raycaster : nullptr);
+    const auto adjacency = faceAdjacency(tri_mesh);
+    const double visibility_s = step.elapsedSeconds();
+    report.set({"stages", stage, "timings_s", "visibility"}, visibility_s);
+    report.set({"stages", stage, "peak_memory_bytes", "visibility"}, peakMemoryBytes());
+
+    const ImageLoader load = [&](std::size_t v) {
+        const auto path = dataset.imagePath(views[v].frame, views[v].camera);
+        if (!path) {
+            throw IoError("texture.mrf: image of frame " + std::to_string(views[v].frame) +
+                          " camera " + std::to_string(views[v].camera) + " disappeared");
+        }
+        return readColorImage(*path);
+    };
+    const TextureResult result = textureMesh(mesh, views, vis, adjacency, load, options);
+
+    step.reset();
+    writeTexturedMesh(ctx.outputDir() / output_subdir_, mesh, result);
+    const double export_s = step.elapsedSeconds();
+
+    // The "texture" layer: the chosen view per face on the shared mesh.
+    OpenMesh::FPropHandleT<int> view_prop;
+    if (!tri_mesh.get_property_handle(view_prop, "texture_view")) {
+        tri_mesh.add_property(view_prop, "texture_view");
+    }
+    for (const auto fh : tri_mesh.faces()) {
+        const std::uint32_t v = result.face_view[static_cast<std::size_t>(fh.idx())];
+        tri_mesh.property(view_prop, fh) = v == kNoLabel ? -1 : static_cast<int>(v);
+    }
+
+    const TextureStats& s = result.stats;
+    report.stage(stage, "faces", s.faces);
+    report.stage(stage, "views", s.views);
+    report.stage(stage, "observations", s.observations);
+    report.stage(stage, "faces_untextured", s.faces_untextured);
+    report.stage(stage, "untextured_fill", "grey block (128,128,128) in atlas page of the block");
+    report.stage(stage, "photo_rejected_observations", s.photo_rejected);
+    report.stage(stage, "patches", s.patches);
+    report.stage(stage, "charts", s.charts);
+    report.stage(stage, "atlas_pages", s.pages);
+    report.stage(stage, "seam_edges", s.seam_edges);
+    report.stage(stage, "mrf_energy_initial", s.energy_initial);
+    report.stage(stage, "mrf_energy_final", s.energy_final);
+    report.stage(stage, "mrf_sweeps", s.mrf_sweeps);
+    report.stage(stage, "global_adjustment_unknowns", s.leveling_summary.unknowns);
+    report.stage(stage, "global_adjustment_cg_iterations", s.leveling_summary.iterations);
+    report.stage(stage, "global_adjustment_max_abs", s.leveling_summary.max_abs_correction);
+    for (std::size_t c = 0; c < s.vignetting_used.size(); ++c) {
+        const auto& p = s.vignetting_used[c];
+        std::ostringstream json;
+        json << "[" << p.a << ", " << p.b << ", " << p.c << "]";
+        report.setJson({"stages", stage, "vignetting_abc", "camera_" + std::to_string(c)},
+                       json.str());
+    }
+    for (const auto& [step_name, seconds] : s.timings_s) {
+        report.set({"stages", stage, "timings_s", step_name}, seconds);
+    }
+    for (const auto& [step_name, bytes] : s.peak_memory_bytes) {
+        report.set({"stages", stage, "peak_memory_bytes", step_name}, bytes);
+    }
+    report.set({"stages", stage, "timings_s", "export"}, export_s);
+    const double total_s = total.elapsedSeconds();
+    report.set({"stages", stage, "timings_s", "total"}, total_s);
+    report.stage(stage, "faces_per_s", total_s > 0 ? double(s.faces) / total_s : 0.0);
+    std::ostringstream msg;
+    msg << "texture.mrf: " << s.faces << " faces, " << s.views << " views, " << s.patches
+        << " patches in " << s.pages << " atlas page(s), " << s.faces_untextured
+        << " untextured, " << total_s << " s";
+    logInfo(msg.str());
+}
+
+}  // namespace vdbmap::texture

@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "vdbmap/pipeline/Stage.h"
+
+namespace vdbmap::texture {
+
+/// Stage `texture.mrf` (paper Sec. 5): reads the mesh and the dataset's camera images, writes
+/// `<output>/textured/mesh.obj`, `mesh.mtl` and the atlas PNGs, and the per-face chosen view
+/// as the mesh face property "texture_view" (int, -1 = none). A thin adapter around
+/// textureMesh() (TexturePipeline.h); visibility, adjacency and the MRF solver come from the
+/// library. Each of the four steps (MRF, vignetting, photo-consistency, global adjustment) can
+/// be switched off for ablations.
+class TextureMrfStage : public Stage {
+public:
+    std::string_view name() const override { return "texture.mrf"; }
+    std::string_view summary() const override {
+        return "Textures the mesh from the camera images: MRF view selection, vignetting "
+               "correction, photo-consistency, global colour adjustment, atlas + OBJ";
+    }
+    void declareOptions(OptionSpec& spec) override;
+    void initialize() override;
+    void declareLayers(LayerSpec& spec) const override;
+    void run(Context& ctx) override;
+
+private:
+    bool mrf_ = true;
+    double lambda_ = 1.0;
+    bool vignetting_ = false;
+    std::vector<double> vignetting_params_;
+    bool estimate_vignetting_ = false;
+    bool photo_consistency_ = true;
+    double photo_max_distance_ = 2.5;
+    int photo_min_views_ = 3;
+    bool global_adjustment_ = true;
+    double seam_smoothness_ = 0.1;
+    int padding_px_ = 2;
+    int atlas_max_size_px_ = 8192;
+    double max_view_angle_deg_ = 80.0;
+    double min_depth_m_ = 0.1;
+    double max_depth_m_ = 200.0;
+    bool occlusion_test_ = true;
+    std::string output_subdir_ = "textured";
+};
+
+}  // namespace vdbmap::texture

@@ -1,0 +1,309 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "TexturePipeline.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include <tbb/parallel_for.h>
+
+#include "FaceStats.h"
+#include "Patches.h"
+#include "TextureAtlas.h"
+#include "ViewSelection.h"
+#include "vdbmap/Error.h"
+#include "vdbmap/core/Log.h"
+#include "vdbmap/core/Progress.h"
+#include "vdbmap/core/Timer.h"
+#include "vdbmap/mrf/PottsMrf.h"
+
+namespace vdbmap::texture {
+
+namespace {
+
+/// Loads view v, converts to float and applies the vignetting correction of its camera.
+cv::Mat loadCorrected(const ImageLoader& load, const std::vector<View>& views, std::size_t v,
+                      const std::vector<VignettingParams>* vignetting) {
+    cv::Mat image = toFloatBgr(load(v));
+    const View& view = views[v];
+    if (image.cols != view.intrinsics.width || image.rows != view.intrinsics.height) {
+        throw InvalidInput("texture: image of view " + std::to_string(v) + " (frame " +
+                           std::to_string(view.frame) + ", camera " + std::to_string(view.camera) +
+                           ") is " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +
+                           " but the camera is " + std::to_string(view.intrinsics.width) + "x" +
+                           std::to_string(view.intrinsics.height));
+    }
+    if (vignetting && view.camera < vignetting->size()) {
+        correctVignetting(image, (*vignetting)[view.camera], view.intrinsics.cx,
+                          view.intrinsics.cy);
+    }
+    return image;
+}
+
+/// Bilinear colour at a continuous pixel position (DATA.md convention), clamped to the image.
+Vec3f sampleBilinear(const cv::Mat& image_f32, const Eigen::Vector2f& p) {
+    const float x = std::clamp(p.x(), 0.0f, float(image_f32.cols - 1));
+    const float y = std::clamp(p.y(), 0.0f, float(image_f32.rows - 1));
+    const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
+    const int x1 = std::min(x0 + 1, image_f32.cols - 1), y1 = std::min(y0 + 1, image_f32.rows - 1);
+    const float tx = x - x0, ty = y - y0;
+    auto at = [&](int yy, int xx) {
+        const cv::Vec3f& c = image_f32.at<cv::Vec3f>(yy, xx);
+        return Vec3f(c[0], c[1], c[2]);
+    };
+    return (1 - ty) * ((1 - tx) * at(y0, x0) + tx * at(y0, x1)) +
+           ty * ((1 - tx) * at(y1, x0) + tx * at(y1, x1));
+}
+
+/// f_v of the seam-levelling equation: the mean colour along the seam edge from `from` to the
+/// edge midpoint (Lempitsky & Ivanov sample along the edge next to the vertex).
+Vec3f sampleSeamEnd(const cv::Mat& image_f32, const Eigen::Vector2f& from,
+                    const Eigen::Vector2f& to) {
+    constexpr int kSamples = 5;
+    Vec3f sum = Vec3f::Zero();
+    for (int k = 0; k < kSamples; ++k) {
+        const float t = 0.5f * static_cast<float>(k) / kSamples;
+        sum += sampleBilinear(image_f32, from + t * (to - from));
+    }
+    return sum / static_cast<float>(kSamples);
+}
+
+int cornerOf(const std::array<std::uint32_t, 3>& face, std::uint32_t vertex) {
+    for (int k = 0; k < 3; ++k) {
+        if (face[k] == vertex) return k;
+    }
+    return 0;
+}
+
+class StepClock {
+public:
+    explicit StepClock(TextureStats& stats) : stats_(stats) {}
+    void done(const std::string& step) {
+        stats_.timings_s.emplace_back(step, timer_.elapsedSeconds());
+        stats_.peak_memory_bytes.emplace_back(step, peakMemoryBytes());
+        timer_.reset();
+    }
+
+private:
+    TextureStats& stats_;
+    Timer timer_;
+};
+
+void checkInputs(const MeshArrays& mesh, const std::vector<View>& views, const Visibility& vis,
+                 const TextureOptions& options) {
+    if (vis.numFaces() != mesh.faces.size()) {
+        throw InvalidInput("texture: visibility covers " + std::to_string(vis.numFaces()) +
+                           " faces but the mesh has " + std::to_string(mesh.faces.size()));
+    }
+    for (const auto& face : mesh.faces) {
+        for (std::uint32_t v : face) {
+            if (v >= mesh.vertices_W.size()) {
+                throw InvalidInput("texture: face refers to vertex " + std::to_string(v) +
+                                   " of " + std::to_string(mesh.vertices_W.size()));
+            }
+        }
+    }
+    for (const auto& obs : vis.obs) {
+        if (obs.view >= views.size()) {
+            throw InvalidInput("texture: visibility refers to view " + std::to_string(obs.view) +
+                               " of " + std::to_string(views.size()));
+        }
+    }
+    if (options.lambda < 0) {
+        throw InvalidInput("texture: lambda must be >= 0, got " + std::to_string(options.lambda));
+    }
+}
+
+/// Beyond the paper: estimates (a, b, c) per camera from the uncorrected observations.
+std::vector<VignettingEstimate> estimateFromImages(
+    const std::vector<View>& views, const Visibility& vis,
+    const std::vector<std::vector<std::uint64_t>>& per_view, const ImageLoader& load,
+    bool quiet) {
+    std::vector<ObservationStats> raw(vis.obs.size());
+    Progress progress("texture: vignetting samples", views.size(), quiet);
+    tbb::parallel_for(std::size_t{0}, views.size(), [&](std::size_t v) {
+        if (!per_view[v].empty()) {
+            const cv::Mat image = loadCorrected(load, views, v, nullptr);
+            computeObservationStats(image, vis, per_view[v], false, raw);
+        }
+        progress.tick();
+    });
+    progress.finish();
+    std::vector<VignettingSample> samples;
+    std::size_t num_cameras = 0;
+    std::vector<std::uint32_t> view_camera(views.size());
+    for (std::size_t v = 0; v < views.size(); ++v) {
+        view_camera[v] = static_cast<std::uint32_t>(views[v].camera);
+        num_cameras = std::max(num_cameras, views[v].camera + 1);
+    }
+    for (std::size_t f = 0; f < vis.numFaces(); ++f) {
+        if (vis.count(f) < 2) continue;
+        for (std::uint64_t i = vis.offsets[f]; i < vis.offsets[f + 1]; ++i) {
+            const FaceObservation& obs = vis.obs[i];
+            const float luminance = raw[i].mean_bgr.mean();
+            // Dark and saturated faces carry no vignetting signal.
+            if (luminance < 8.0f || luminance > 250.0f) continue;
+            const Eigen::Vector2f c = (obs.pixels[0] + obs.pixels[1] + obs.pixels[2]) / 3.0f;
+            const auto& in = views[obs.view].intrinsics;
+            samples.push_back({static_cast<std::uint32_t>(f), obs.view, luminance,
+                               static_cast<float>(vignettingRadius(c.x(), c.y(), in.cx, in.cy))});
+        }
+    }
+    return estimateVignetting(samples, view_camera, num_cameras);
+}
+
+}  // namespace
+
+TextureResult textureMesh(const MeshArrays& mesh, const std::vector<View>& views,
+                          const Visibility& vis,
+                          const std::vector<std::array<std::uint32_t, 2>>& adjacency,
+                          const ImageLoader& load, const TextureOptions& options) {
+    checkInputs(mesh, views, vis, options);
+    TextureResult result;
+    TextureStats& stats = result.stats;
+    stats.faces = mesh.faces.size();
+    stats.views = views.size();
+    stats.observations = vis.obs.size();
+    StepClock clock(stats);
+    const auto per_view = observationsPerView(vis, views.size());
+
+    // Vignetting (paper Sec. 5.2.1): given per camera, or estimated from the overlaps.
+    std::vector<VignettingParams> vignetting = options.vignetting_params;
+    if (options.vignetting && options.estimate_vignetting) {
+        stats.vignetting_estimates = estimateFromImages(views, vis, per_view, load, options.quiet);
+        vignetting.clear();
+        for (const auto& e : stats.vignetting_estimates) vignetting.push_back(e.params);
+        clock.done("vignetting_estimate");
+    }
+    const std::vector<VignettingParams>* vignetting_used = options.vignetting ? &vignetting : nullptr;
+    if (options.vignetting) stats.vignetting_used = vignetting;
+
+    // Pass 1: E_Q (paper Eq. E_Q) and mean colours of every observation, one image per task.
+    std::vector<ObservationStats> obs_stats(vis.obs.size());
+    {
+        Progress progress("texture: data term", views.size(), options.quiet);
+        tbb::parallel_for(std::size_t{0}, views.size(), [&](std::size_t v) {
+            if (!per_view[v].empty()) {
+                const cv::Mat image = loadCorrected(load, views, v, vignetting_used);
+                computeObservationStats(image, vis, per_view[v], true, obs_stats);
+            }
+            progress.tick();
+        });
+    }
+    clock.done("data_term");
+
+    std::vector<char> keep(vis.obs.size(), 1);
+    if (options.photo_consistency) {
+        stats.photo_rejected = applyPhotoConsistency(vis, obs_stats, options.photo, keep);
+        clock.done("photo_consistency");
+    }
+
+    // View selection (paper Sec. 5.1).
+    const MrfProblem problem =
+        buildViewSelectionProblem(vis, obs_stats, keep, adjacency, views.size(), options.lambda);
+    const MrfSolution solution = selectViews(problem, options.use_mrf);
+    stats.energy_initial = solution.initial_energy;
+    stats.energy_final = solution.final_energy;
+    stats.mrf_sweeps = solution.sweeps;
+    result.face_view = solution.labels;
+    {
+        std::ostringstream msg;
+        msg << "texture: view selection energy " << solution.initial_energy << " -> "
+            << solution.final_energy << (options.use_mrf ? " (alpha-expansion)" : " (best view)");
+        logInfo(msg.str());
+    }
+    clock.done("mrf");
+
+    // Patches and atlas layout; the chosen view's projection of each face.
+    std::vector<std::uint32_t> face_patch;
+    const std::vector<Patch> patches = buildPatches(result.face_view, adjacency, &face_patch);
+    std::vector<std::array<Eigen::Vector2f, 3>> face_pixels(mesh.faces.size());
+    for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+        const std::uint32_t view = result.face_view[f];
+        if (view == kNoLabel) {
+            ++stats.faces_untextured;
+            continue;
+        }
+        const FaceObservation* it = std::lower_bound(
+            vis.begin(f), vis.end(f), view,
+            [](const FaceObservation& o, std::uint32_t v) { return o.view < v; });
+        face_pixels[f] = it->pixels;
+    }
+    const AtlasLayout layout = layoutAtlas(patches, face_pixels, mesh.faces.size(),
+                                           options.padding_px, options.atlas_max_size_px);
+    stats.patches = patches.size();
+    stats.charts = layout.charts.size();
+    stats.pages = layout.pages.size();
+    result.pages.reserve(layout.pages.size());
+    for (const RectSize& s : layout.pages) {
+        result.pages.emplace_back(s.height, s.width, CV_8UC3, cv::Scalar(0, 0, 0));
+    }
+    const std::vector<SeamEdge> seams =
+        options.global_adjustment ? findSeamEdges(mesh, face_patch, adjacency)
+                                  : std::vector<SeamEdge>{};
+    stats.seam_edges = seams.size();
+    clock.done("patches_layout");
+
+    // Pass 2: cut the charts from the (corrected) chosen views and sample the seams.
+    std::vector<std::vector<std::uint32_t>> charts_of_view(views.size());
+    for (std::uint32_t c = 0; c < layout.charts.size(); ++c) {
+        charts_of_view[layout.charts[c].view].push_back(c);
+    }
+    std::vector<std::vector<std::pair<std::uint32_t, bool>>> seams_of_view(views.size());
+    for (std::uint32_t k = 0; k < seams.size(); ++k) {
+        seams_of_view[result.face_view[seams[k].face_a]].emplace_back(k, true);
+        seams_of_view[result.face_view[seams[k].face_b]].emplace_back(k, false);
+    }
+    std::vector<SeamSamples> samples(seams.size());
+    {
+        Progress progress("texture: atlas", views.size(), options.quiet);
+        tbb::parallel_for(std::size_t{0}, views.size(), [&](std::size_t v) {
+            if (!charts_of_view[v].empty() || !seams_of_view[v].empty()) {
+                const cv::Mat image = loadCorrected(load, views, v, vignetting_used);
+                for (std::uint32_t c : charts_of_view[v]) {
+                    cutChart(image, layout.charts[c], result.pages[layout.charts[c].place.page]);
+                }
+                for (const auto& [k, side_a] : seams_of_view[v]) {
+                    const SeamEdge& s = seams[k];
+                    const std::uint32_t face = side_a ? s.face_a : s.face_b;
+                    const auto& px = face_pixels[face];
+                    const Eigen::Vector2f p0 = px[cornerOf(mesh.faces[face], s.v0)];
+                    const Eigen::Vector2f p1 = px[cornerOf(mesh.faces[face], s.v1)];
+                    Vec3f& at_v0 = side_a ? samples[k].a_v0 : samples[k].b_v0;
+                    Vec3f& at_v1 = side_a ? samples[k].a_v1 : samples[k].b_v1;
+                    at_v0 = sampleSeamEnd(image, p0, p1);
+                    at_v1 = sampleSeamEnd(image, p1, p0);
+                }
+            }
+            progress.tick();
+        });
+    }
+    clock.done("atlas_cut");
+
+    // Global colour adjustment (paper Eq. seam_levelling).
+    if (options.global_adjustment) {
+        SeamLevelingResult leveling =
+            solveSeamLeveling(mesh, face_patch, seams, samples, options.leveling);
+        tbb::parallel_for(std::size_t{0}, layout.charts.size(), [&](std::size_t c) {
+            const Chart& chart = layout.charts[c];
+            applyChartCorrection(chart, face_pixels, leveling.corner_correction,
+                                 result.pages[chart.place.page]);
+        });
+        leveling.corner_correction.clear();
+        leveling.corner_correction.shrink_to_fit();
+        stats.leveling_summary = std::move(leveling);
+        clock.done("global_adjustment");
+    }
+
+    if (layout.has_fill_block) {
+        const cv::Rect block(layout.fill_place.x, layout.fill_place.y, layout.fill_size,
+                             layout.fill_size);
+        result.pages[layout.fill_place.page](block).setTo(
+            cv::Scalar(options.fill_bgr[0], options.fill_bgr[1], options.fill_bgr[2]));
+    }
+    faceUvs(layout, face_pixels, result.face_uvs, result.face_page);
+    clock.done("uvs");
+    return result;
+}
+
+}  // namespace vdbmap::texture

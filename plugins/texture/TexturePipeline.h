@@ -1,0 +1,74 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "PhotoConsistency.h"
+#include "SeamLeveling.h"
+#include "TextureTypes.h"
+#include "Vignetting.h"
+#include "vdbmap/render/Visibility.h"
+
+namespace vdbmap::texture {
+
+/// Everything the texturing of paper Sec. 5 can be told; each of the four steps can be off.
+struct TextureOptions {
+    bool use_mrf = true;         ///< view selection MRF; false = per-face best view
+    double lambda = 1.0;         ///< Potts weight of the MRF
+    bool vignetting = false;     ///< correct vignetting with `vignetting_params`
+    bool estimate_vignetting = false;  ///< estimate the parameters instead (needs vignetting)
+    std::vector<VignettingParams> vignetting_params;  ///< per camera index (View::camera)
+    bool photo_consistency = true;
+    PhotoConsistencyOptions photo;
+    bool global_adjustment = true;
+    SeamLevelingOptions leveling;
+    int padding_px = 2;
+    int atlas_max_size_px = 8192;
+    std::array<std::uint8_t, 3> fill_bgr{128, 128, 128};  ///< colour of faces no view saw
+    bool quiet = true;           ///< no progress bars
+};
+
+/// Counts, energies, timings (s) and peak memory (bytes, process high-water mark after the
+/// step) of one texturing run.
+struct TextureStats {
+    std::size_t faces = 0, views = 0, observations = 0;
+    std::size_t faces_untextured = 0;
+    std::size_t photo_rejected = 0;
+    std::size_t patches = 0, charts = 0, pages = 0, seam_edges = 0;
+    double energy_initial = 0, energy_final = 0;
+    int mrf_sweeps = 0;
+    SeamLevelingResult leveling_summary;  ///< corner corrections cleared after use
+    std::vector<VignettingEstimate> vignetting_estimates;  ///< per camera, if estimated
+    std::vector<VignettingParams> vignetting_used;         ///< per camera
+    std::vector<std::pair<std::string, double>> timings_s;
+    std::vector<std::pair<std::string, std::size_t>> peak_memory_bytes;
+};
+
+/// The textured mesh: atlas pages and a UV triangle + page per face.
+struct TextureResult {
+    std::vector<cv::Mat> pages;  ///< CV_8UC3 BGR
+    std::vector<std::array<Eigen::Vector2f, 3>> face_uvs;  ///< OBJ convention
+    std::vector<std::uint32_t> face_page;
+    std::vector<std::uint32_t> face_view;  ///< chosen view, kNoLabel = fill
+    TextureStats stats;
+};
+
+/// Textures a mesh from the views that see it (paper Sec. 5): optional vignetting estimation
+/// and correction, data term E_Q and mean colours in one streaming pass over the images,
+/// photo-consistency check, view-selection MRF, patches and atlas layout, a second pass over
+/// the chosen views that cuts the charts and samples the seams, global colour adjustment, UVs.
+/// Images are loaded one per task and never kept (memory: one image per thread + the atlas).
+/// Faces no view saw get a grey fill block (`fill_bgr`) and are counted. Throws InvalidInput
+/// on inconsistent inputs and whatever `load` throws.
+TextureResult textureMesh(const MeshArrays& mesh, const std::vector<View>& views,
+                          const Visibility& vis,
+                          const std::vector<std::array<std::uint32_t, 2>>& adjacency,
+                          const ImageLoader& load, const TextureOptions& options);
+
+}  // namespace vdbmap::texture
