@@ -55,6 +55,10 @@ public:
     /// ConfigError naming the key, the expected type and the type found.
     void set(const std::string& key, const OptionValue& value);
 
+    /// The current value of the bound member (after defaults and binding), for report.json.
+    /// Throws ConfigError for an unknown key.
+    OptionValue value(const std::string& key) const;
+
     /// Nullptr if no such key.
     const OptionInfo* find(const std::string& key) const;
     const std::vector<OptionInfo>& options() const { return options_; }
@@ -65,6 +69,9 @@ private:
     void push(OptionInfo info);
     std::vector<OptionInfo> options_;
 };
+
+/// The current value of the member an option is bound to.
+OptionValue currentValue(const OptionInfo& info);
 
 /// Formats a value for `describe` and report.json ("0.1", "[1, 2]", "\"abc\"", "true").
 std::string formatOptionValue(const OptionValue& value);

@@ -1,0 +1,18 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+/// Subcommands of the `vdbmap` app. Each adds itself to `app`; its callback sets `exit_code`
+/// (0 on success) and lets vdbmap::Error propagate to main(), which maps it to an exit code:
+/// 0 success, 2 usage or configuration error (CLI parse errors, ConfigError, PluginError),
+/// 1 runtime or input error (IoError, any other exception).
+
+/// `vdbmap run CONFIG.yaml [-o OUTDIR] [--set key.path=value ...] [--threads N] [--quiet]`.
+void addRunCommand(CLI::App& app, int& exit_code);
+/// `vdbmap describe [STAGE|dataset|output] [--plugin NAME ...]`.
+void addDescribeCommand(CLI::App& app, int& exit_code);
+/// `vdbmap info FILE.vdb`.
+void addInfoCommand(CLI::App& app, int& exit_code);
+/// `vdbmap eval ...` (apps/vdbmap/EvalCommand.cpp).
+void addEvalCommand(CLI::App& app, int& exit_code);

@@ -1,0 +1,68 @@
+// SPDX-License-Identifier: Apache-2.0
+#include <tbb/global_control.h>
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "Commands.h"
+#include "vdbmap/Error.h"
+#include "vdbmap/core/Log.h"
+#include "vdbmap/pipeline/Pipeline.h"
+#include "vdbmap/pipeline/Report.h"
+
+namespace {
+
+struct RunArgs {
+    std::string config;
+    std::string output_dir;
+    std::vector<std::string> sets;
+    int threads = 0;
+    bool quiet = false;
+    bool check_only = false;
+};
+
+int runPipeline(const RunArgs& args) {
+    if (args.quiet) vdbmap::setLogLevel(vdbmap::LogLevel::Warn);
+    // The app sets the thread count once; library code only uses TBB.
+    std::unique_ptr<tbb::global_control> threads;
+    if (args.threads > 0) {
+        threads = std::make_unique<tbb::global_control>(
+            tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(args.threads));
+    }
+    auto pipeline = vdbmap::Pipeline::fromFile(args.config, args.sets);
+    if (args.check_only) {
+        vdbmap::logInfo(args.config + ": OK (" + std::to_string(pipeline->numStages()) +
+                        " stages checked, nothing run)");
+        return 0;
+    }
+    const std::filesystem::path out =
+        args.output_dir.empty() ? std::filesystem::path(pipeline->outputConfig().dir)
+                                : std::filesystem::path(args.output_dir);
+    vdbmap::Report report;
+    pipeline->run(out, report, args.quiet);
+    vdbmap::logInfo("done: outputs in " + out.string() +
+                    (pipeline->outputConfig().write_report ? " (report.json)" : ""));
+    return 0;
+}
+
+}  // namespace
+
+void addRunCommand(CLI::App& app, int& exit_code) {
+    auto args = std::make_shared<RunArgs>();
+    CLI::App* run = app.add_subcommand("run", "Run a YAML pipeline (see config/ for examples)");
+    run->add_option("config", args->config, "Pipeline file (YAML)")->required();
+    run->add_option("-o,--output", args->output_dir,
+                    "Output folder (default: output.dir of the config, else ./out)");
+    run->add_option("--set", args->sets,
+                    "Override an option: dataset.<key>=v, output.<key>=v, stages.<i>.<key>=v "
+                    "or <stage>.<key>=v (value parsed as YAML); repeatable")
+        ->allow_extra_args(false);
+    run->add_option("--threads", args->threads, "Worker threads (default: all cores)")
+        ->check(CLI::Range(1, 4096));
+    run->add_flag("-q,--quiet", args->quiet, "Only warnings and errors; no progress bars");
+    run->add_flag("--check", args->check_only,
+                  "Load and check the config (keys, types, plugins, layers) without running");
+    run->callback([args, &exit_code] { exit_code = runPipeline(*args); });
+}

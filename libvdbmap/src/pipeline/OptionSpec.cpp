@@ -1,0 +1,252 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "vdbmap/pipeline/OptionSpec.h"
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <sstream>
+#include <type_traits>
+
+#include "vdbmap/Error.h"
+
+namespace vdbmap {
+namespace {
+
+OptionType typeOfValue(const OptionValue& value) {
+    return static_cast<OptionType>(value.index());
+}
+
+std::string formatDouble(double v) {
+    if (std::isfinite(v) && v == std::floor(v) && std::fabs(v) < 1e15) {
+        // Keep a ".0" so that a double never reads back as an int.
+        std::ostringstream out;
+        out << static_cast<long long>(v) << ".0";
+        return out.str();
+    }
+    char buffer[32];
+    std::snprintf(buffer, sizeof(buffer), "%.10g", v);
+    return buffer;
+}
+
+std::string quote(const std::string& s) {
+    std::string out = "\"";
+    for (char c : s) {
+        if (c == '"' || c == '\\') out += '\\';
+        out += c;
+    }
+    return out + "\"";
+}
+
+template <typename T, typename F>
+std::string formatList(const std::vector<T>& values, F&& format_one) {
+    std::string out = "[";
+    for (std::size_t i = 0; i < values.size(); ++i) {
+        if (i > 0) out += ", ";
+        out += format_one(values[i]);
+    }
+    return out + "]";
+}
+
+/// Converts `value` to the option's type: exact match, or Int -> Double, IntList -> DoubleList,
+/// and an empty list of any element type to any list type (YAML `[]` has no element type).
+bool convert(const OptionValue& value, OptionType want, OptionValue& out) {
+    const OptionType have = typeOfValue(value);
+    if (have == want) {
+        out = value;
+        return true;
+    }
+    if (want == OptionType::Double && have == OptionType::Int) {
+        out = static_cast<double>(std::get<std::int64_t>(value));
+        return true;
+    }
+    if (want == OptionType::DoubleList && have == OptionType::IntList) {
+        const auto& ints = std::get<std::vector<std::int64_t>>(value);
+        out = std::vector<double>(ints.begin(), ints.end());
+        return true;
+    }
+    const bool have_list = have == OptionType::DoubleList || have == OptionType::IntList ||
+                           have == OptionType::StringList;
+    const bool want_list = want == OptionType::DoubleList || want == OptionType::IntList ||
+                           want == OptionType::StringList;
+    if (have_list && want_list) {
+        const bool empty = std::visit(
+            [](const auto& v) {
+                using V = std::decay_t<decltype(v)>;
+                if constexpr (std::is_same_v<V, std::vector<double>> ||
+                              std::is_same_v<V, std::vector<std::int64_t>> ||
+                              std::is_same_v<V, std::vector<std::string>>) {
+                    return v.empty();
+                } else {
+                    return false;
+                }
+            },
+            value);
+        if (empty) {
+            if (want == OptionType::DoubleList) out = std::vector<double>{};
+            if (want == OptionType::IntList) out = std::vector<std::int64_t>{};
+            if (want == OptionType::StringList) out = std::vector<std::string>{};
+            return true;
+        }
+    }
+    return false;
+}
+
+void assign(const OptionInfo& info, const OptionValue& value) {
+    switch (info.cxx_type) {
+        case OptionCxxType::Bool:
+            *static_cast<bool*>(info.target) = std::get<bool>(value);
+            break;
+        case OptionCxxType::Int:
+            *static_cast<int*>(info.target) = static_cast<int>(std::get<std::int64_t>(value));
+            break;
+        case OptionCxxType::Int64:
+            *static_cast<std::int64_t*>(info.target) = std::get<std::int64_t>(value);
+            break;
+        case OptionCxxType::Double:
+            *static_cast<double*>(info.target) = std::get<double>(value);
+            break;
+        case OptionCxxType::String:
+            *static_cast<std::string*>(info.target) = std::get<std::string>(value);
+            break;
+        case OptionCxxType::DoubleVec:
+            *static_cast<std::vector<double>*>(info.target) = std::get<std::vector<double>>(value);
+            break;
+        case OptionCxxType::IntVec: {
+            const auto& v = std::get<std::vector<std::int64_t>>(value);
+            *static_cast<std::vector<int>*>(info.target) = std::vector<int>(v.begin(), v.end());
+            break;
+        }
+        case OptionCxxType::Int64Vec:
+            *static_cast<std::vector<std::int64_t>*>(info.target) =
+                std::get<std::vector<std::int64_t>>(value);
+            break;
+        case OptionCxxType::StringVec:
+            *static_cast<std::vector<std::string>*>(info.target) =
+                std::get<std::vector<std::string>>(value);
+            break;
+    }
+}
+
+bool fitsInt(std::int64_t v) {
+    return v >= std::numeric_limits<int>::min() && v <= std::numeric_limits<int>::max();
+}
+
+}  // namespace
+
+const char* optionTypeName(OptionType type) {
+    switch (type) {
+        case OptionType::Bool: return "bool";
+        case OptionType::Int: return "int";
+        case OptionType::Double: return "double";
+        case OptionType::String: return "string";
+        case OptionType::DoubleList: return "list<double>";
+        case OptionType::IntList: return "list<int>";
+        case OptionType::StringList: return "list<string>";
+    }
+    return "unknown";
+}
+
+void OptionSpec::push(OptionInfo info) {
+    if (info.key.empty()) throw InvalidInput("OptionSpec: an option has an empty key");
+    if (find(info.key) != nullptr) {
+        throw InvalidInput("OptionSpec: option '" + info.key + "' is declared twice");
+    }
+    options_.push_back(std::move(info));
+}
+
+const OptionInfo* OptionSpec::find(const std::string& key) const {
+    for (const auto& info : options_) {
+        if (info.key == key) return &info;
+    }
+    return nullptr;
+}
+
+std::string OptionSpec::keyList() const {
+    std::string out;
+    for (const auto& info : options_) {
+        if (!out.empty()) out += ", ";
+        out += info.key;
+    }
+    return out.empty() ? std::string("(none)") : out;
+}
+
+void OptionSpec::set(const std::string& key, const OptionValue& value) {
+    const OptionInfo* info = find(key);
+    if (info == nullptr) {
+        throw ConfigError("unknown option '" + key + "'; valid keys: " + keyList());
+    }
+    OptionValue converted;
+    if (!convert(value, info->type, converted)) {
+        throw ConfigError("option '" + key + "': expected " + optionTypeName(info->type) +
+                          ", found " + optionTypeName(typeOfValue(value)) + " " +
+                          formatOptionValue(value));
+    }
+    if (info->cxx_type == OptionCxxType::Int && !fitsInt(std::get<std::int64_t>(converted))) {
+        throw ConfigError("option '" + key + "': value " + formatOptionValue(converted) +
+                          " does not fit in a 32-bit int");
+    }
+    if (info->cxx_type == OptionCxxType::IntVec) {
+        for (std::int64_t v : std::get<std::vector<std::int64_t>>(converted)) {
+            if (!fitsInt(v)) {
+                throw ConfigError("option '" + key + "': element " + std::to_string(v) +
+                                  " does not fit in a 32-bit int");
+            }
+        }
+    }
+    assign(*info, converted);
+}
+
+OptionValue OptionSpec::value(const std::string& key) const {
+    const OptionInfo* info = find(key);
+    if (info == nullptr) {
+        throw ConfigError("unknown option '" + key + "'; valid keys: " + keyList());
+    }
+    return currentValue(*info);
+}
+
+OptionValue currentValue(const OptionInfo& info) {
+    switch (info.cxx_type) {
+        case OptionCxxType::Bool: return *static_cast<const bool*>(info.target);
+        case OptionCxxType::Int:
+            return static_cast<std::int64_t>(*static_cast<const int*>(info.target));
+        case OptionCxxType::Int64: return *static_cast<const std::int64_t*>(info.target);
+        case OptionCxxType::Double: return *static_cast<const double*>(info.target);
+        case OptionCxxType::String: return *static_cast<const std::string*>(info.target);
+        case OptionCxxType::DoubleVec:
+            return *static_cast<const std::vector<double>*>(info.target);
+        case OptionCxxType::IntVec: {
+            const auto& v = *static_cast<const std::vector<int>*>(info.target);
+            return std::vector<std::int64_t>(v.begin(), v.end());
+        }
+        case OptionCxxType::Int64Vec:
+            return *static_cast<const std::vector<std::int64_t>*>(info.target);
+        case OptionCxxType::StringVec:
+            return *static_cast<const std::vector<std::string>*>(info.target);
+    }
+    return false;
+}
+
+std::string formatOptionValue(const OptionValue& value) {
+    return std::visit(
+        [](const auto& v) -> std::string {
+            using V = std::decay_t<decltype(v)>;
+            if constexpr (std::is_same_v<V, bool>) {
+                return v ? "true" : "false";
+            } else if constexpr (std::is_same_v<V, std::int64_t>) {
+                return std::to_string(v);
+            } else if constexpr (std::is_same_v<V, double>) {
+                return formatDouble(v);
+            } else if constexpr (std::is_same_v<V, std::string>) {
+                return quote(v);
+            } else if constexpr (std::is_same_v<V, std::vector<double>>) {
+                return formatList(v, formatDouble);
+            } else if constexpr (std::is_same_v<V, std::vector<std::int64_t>>) {
+                return formatList(v, [](std::int64_t x) { return std::to_string(x); });
+            } else {
+                return formatList(v, quote);
+            }
+        },
+        value);
+}
+
+}  // namespace vdbmap

@@ -1,0 +1,380 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "vdbmap/pipeline/Pipeline.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "pipeline/PipelineImpl.h"
+#include "pipeline/YamlOptions.h"
+#include "vdbmap/Error.h"
+#include "vdbmap/pipeline/StageRegistry.h"
+#include "vdbmap/plugin/PluginLoader.h"
+
+namespace vdbmap {
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::vector<std::string> kTopLevelKeys{"dataset", "plugins", "stages", "output"};
+
+/// One `--set path=value`, split into its target section and key.
+struct Override {
+    enum class Target { Dataset, Output, StageIndex, StageName } target;
+    std::size_t index = 0;   ///< for StageIndex (after resolving StageName too)
+    std::string remainder;   ///< "integrate.atsdf.voxel_size_m" before the stage name is known
+    std::string key;
+    YAML::Node value;
+    std::string text;        ///< the original "path=value"
+};
+
+Override parseOverride(const std::string& text) {
+    const std::size_t eq = text.find('=');
+    if (eq == std::string::npos || eq == 0) {
+        throw ConfigError("--set '" + text + "': expected key.path=value");
+    }
+    Override o;
+    o.text = text;
+    const std::string path = text.substr(0, eq);
+    const std::string value = text.substr(eq + 1);
+    try {
+        o.value = YAML::Load(value);
+    } catch (const YAML::Exception&) {
+        o.value = YAML::Node(value);
+    }
+    auto startsWith = [&](const std::string& prefix) { return path.rfind(prefix, 0) == 0; };
+    if (startsWith("dataset.")) {
+        o.target = Override::Target::Dataset;
+        o.key = path.substr(8);
+    } else if (startsWith("output.")) {
+        o.target = Override::Target::Output;
+        o.key = path.substr(7);
+    } else if (startsWith("stages.")) {
+        const std::string rest = path.substr(7);
+        const std::size_t dot = rest.find('.');
+        const std::string index = rest.substr(0, dot);
+        if (dot == std::string::npos || index.empty() ||
+            !std::all_of(index.begin(), index.end(), ::isdigit)) {
+            throw ConfigError("--set '" + text + "': expected stages.<index>.<key>=value");
+        }
+        o.target = Override::Target::StageIndex;
+        o.index = std::stoul(index);
+        o.key = rest.substr(dot + 1);
+    } else {
+        o.target = Override::Target::StageName;
+        o.remainder = path;
+    }
+    if (o.target != Override::Target::StageName && o.key.empty()) {
+        throw ConfigError("--set '" + text + "': the key after the last '.' is empty");
+    }
+    return o;
+}
+
+/// Replaces or appends the override's entry among a section's entries.
+void applyOverride(std::vector<detail::YamlEntry>& entries, const Override& o) {
+    const std::string where = "--set " + o.text;
+    for (auto& entry : entries) {
+        if (entry.key == o.key) {
+            entry.value = o.value;
+            entry.where = where;
+            return;
+        }
+    }
+    entries.push_back({o.key, o.value, where});
+}
+
+/// Turns `<stage name>.<key>` overrides into stage indices; the name must appear once.
+void resolveStageNames(std::vector<Override>& overrides, const std::vector<std::string>& names) {
+    for (auto& o : overrides) {
+        if (o.target != Override::Target::StageName) continue;
+        std::string best;
+        for (const auto& name : names) {
+            if (o.remainder.rfind(name + ".", 0) == 0 && name.size() > best.size()) best = name;
+        }
+        if (best.empty()) {
+            std::string list;
+            for (const auto& name : names) list += (list.empty() ? "" : ", ") + name;
+            throw ConfigError("--set '" + o.text +
+                              "': unknown path; use dataset.<key>, output.<key>, "
+                              "stages.<index>.<key> or <stage>.<key> with a stage of this "
+                              "pipeline (" + list + ")");
+        }
+        const auto count = std::count(names.begin(), names.end(), best);
+        if (count > 1) {
+            throw ConfigError("--set '" + o.text + "': stage '" + best + "' appears " +
+                              std::to_string(count) + " times; use stages.<index>.<key>");
+        }
+        o.index = static_cast<std::size_t>(std::find(names.begin(), names.end(), best) -
+                                           names.begin());
+        o.key = o.remainder.substr(best.size() + 1);
+        o.target = Override::Target::StageIndex;
+        if (o.key.empty()) throw ConfigError("--set '" + o.text + "': empty key");
+    }
+}
+
+YAML::Node parseYaml(const std::string& text, const std::string& source) {
+    try {
+        return YAML::Load(text);
+    } catch (const YAML::ParserException& e) {
+        throw ConfigError(source + ":" + std::to_string(e.mark.line + 1) + ":" +
+                          std::to_string(e.mark.column + 1) + ": YAML syntax error: " + e.msg);
+    } catch (const YAML::Exception& e) {
+        throw ConfigError(source + ": YAML error: " + e.what());
+    }
+}
+
+nlohmann::json optionToJson(const OptionValue& value) {
+    return std::visit([](const auto& v) { return nlohmann::json(v); }, value);
+}
+
+nlohmann::json specToJson(const OptionSpec& spec) {
+    nlohmann::json out = nlohmann::json::object();
+    for (const auto& info : spec.options()) out[info.key] = optionToJson(currentValue(info));
+    return out;
+}
+
+}  // namespace
+
+Pipeline::Pipeline() : impl_(std::make_unique<Impl>()) {}
+Pipeline::~Pipeline() = default;
+
+std::unique_ptr<Pipeline> Pipeline::fromFile(const fs::path& yaml_file,
+                                             const std::vector<std::string>& overrides) {
+    std::error_code ec;
+    if (!fs::is_regular_file(yaml_file, ec)) {
+        throw ConfigError(yaml_file.string() + ": config file not found");
+    }
+    std::ifstream in(yaml_file, std::ios::binary);
+    if (!in) throw ConfigError(yaml_file.string() + ": cannot open config file");
+    std::ostringstream text;
+    text << in.rdbuf();
+    const fs::path base = fs::absolute(yaml_file, ec).parent_path();
+    return fromString(text.str(), yaml_file.string(), base, overrides);
+}
+
+std::unique_ptr<Pipeline> Pipeline::fromString(const std::string& yaml_text,
+                                               const std::string& source_name,
+                                               const fs::path& base_dir,
+                                               const std::vector<std::string>& override_texts) {
+    registerBuiltinStages();
+    std::unique_ptr<Pipeline> pipeline(new Pipeline());
+    Impl& p = *pipeline->impl_;
+    p.source = source_name;
+    p.base_dir = base_dir;
+    p.overrides = override_texts;
+    const std::string& src = p.source;
+
+    std::vector<Override> overrides;
+    for (const auto& text : override_texts) overrides.push_back(parseOverride(text));
+
+    const YAML::Node root = parseYaml(yaml_text, src);
+    if (!root.IsMap()) {
+        throw ConfigError(detail::yamlLocation(src, root) +
+                          ": expected a map with keys dataset, plugins, stages, output");
+    }
+    for (const auto& item : root) {
+        const std::string key = item.first.Scalar();
+        if (std::find(kTopLevelKeys.begin(), kTopLevelKeys.end(), key) == kTopLevelKeys.end()) {
+            throw ConfigError(detail::yamlLocation(src, item.first) + ": unknown top-level key '" +
+                              key + "'; valid keys: dataset, plugins, stages, output");
+        }
+    }
+
+    // Plugins first: their stages must be registered before the stages are created.
+    const YAML::Node plugins = root["plugins"];
+    if (plugins.IsDefined() && !plugins.IsNull()) {
+        if (!plugins.IsSequence()) {
+            throw ConfigError(detail::yamlLocation(src, plugins) +
+                              ": plugins: expected a list of plugin names or paths");
+        }
+        for (const auto& item : plugins) {
+            if (!item.IsScalar()) {
+                throw ConfigError(detail::yamlLocation(src, item) +
+                                  ": plugins: expected a plugin name or path");
+            }
+            try {
+                p.plugin_specs.push_back(item.Scalar());
+                p.plugin_files.push_back(PluginLoader::load(item.Scalar(), p.base_dir));
+            } catch (const PluginError& e) {
+                throw PluginError(detail::yamlLocation(src, item) + ": " + e.what());
+            }
+        }
+    }
+
+    const YAML::Node stages = root["stages"];
+    if (!stages.IsDefined() || stages.IsNull()) {
+        throw ConfigError(src + ": missing required key 'stages' (an ordered list of "
+                                "`- stage: <name>` items)");
+    }
+    if (!stages.IsSequence() || stages.size() == 0) {
+        throw ConfigError(detail::yamlLocation(src, stages) +
+                          ": stages: expected a non-empty list of `- stage: <name>` items");
+    }
+    std::vector<std::string> names;
+    for (std::size_t i = 0; i < stages.size(); ++i) {
+        const YAML::Node item = stages[i];
+        const std::string where = detail::yamlLocation(src, item);
+        const std::string index_label = "stages[" + std::to_string(i) + "]";
+        if (!item.IsMap() || !item["stage"].IsDefined() || !item["stage"].IsScalar()) {
+            throw ConfigError(where + ": " + index_label +
+                              ": expected a map with key 'stage: <name>' and the stage's options");
+        }
+        const std::string name = item["stage"].Scalar();
+        PipelineStage ps;
+        try {
+            ps.stage = StageRegistry::instance().create(name);
+        } catch (const ConfigError& e) {
+            throw ConfigError(where + ": " + index_label + ": " + e.what());
+        }
+        ps.where = where;
+        ps.label = "stage '" + name + "' (" + index_label + ")";
+        names.push_back(name);
+        p.stages.push_back(std::move(ps));
+    }
+    resolveStageNames(overrides, names);
+    for (const auto& o : overrides) {
+        if (o.target == Override::Target::StageIndex && o.index >= p.stages.size()) {
+            throw ConfigError("--set '" + o.text + "': stage index " + std::to_string(o.index) +
+                              " out of range; the pipeline has " +
+                              std::to_string(p.stages.size()) + " stages");
+        }
+    }
+
+    // Bind every section before any initialize() so that all key errors come first.
+    for (std::size_t i = 0; i < p.stages.size(); ++i) {
+        PipelineStage& ps = p.stages[i];
+        ps.stage->declareOptions(ps.spec);
+        auto entries = detail::yamlMapEntries(stages[i], src, ps.label, "stage");
+        for (const auto& o : overrides) {
+            if (o.target == Override::Target::StageIndex && o.index == i) applyOverride(entries, o);
+        }
+        detail::bindEntries(ps.spec, entries, ps.label, ps.where);
+    }
+
+    const YAML::Node dataset = root["dataset"];
+    p.dataset.declareOptions(p.dataset_spec);
+    std::vector<detail::YamlEntry> dataset_entries = detail::yamlMapEntries(dataset, src, "dataset");
+    p.has_dataset = dataset.IsDefined() && !dataset.IsNull();
+    bool path_overridden = false;
+    for (const auto& o : overrides) {
+        if (o.target != Override::Target::Dataset) continue;
+        applyOverride(dataset_entries, o);
+        p.has_dataset = true;
+        path_overridden = path_overridden || o.key == "path";
+    }
+    if (p.has_dataset) {
+        detail::bindEntries(p.dataset_spec, dataset_entries, "dataset",
+                            dataset.IsDefined() ? detail::yamlLocation(src, dataset) : src);
+        if (path_overridden && !p.dataset.path.empty() && fs::path(p.dataset.path).is_relative()) {
+            p.dataset.path = fs::absolute(p.dataset.path).string();
+        }
+    }
+
+    const YAML::Node output = root["output"];
+    p.output.declareOptions(p.output_spec);
+    auto output_entries = detail::yamlMapEntries(output, src, "output");
+    for (const auto& o : overrides) {
+        if (o.target == Override::Target::Output) applyOverride(output_entries, o);
+    }
+    detail::bindEntries(p.output_spec, output_entries, "output",
+                        output.IsDefined() ? detail::yamlLocation(src, output) : src);
+
+    for (auto& ps : p.stages) {
+        try {
+            ps.stage->initialize();
+        } catch (const ConfigError& e) {
+            throw ConfigError(ps.where + ": " + e.what());
+        } catch (const Error& e) {
+            throw ConfigError(ps.where + ": " + ps.label + ": " + e.what());
+        }
+        ps.stage->declareLayers(ps.layers);
+    }
+
+    // Without an opened dataset, assume it provides every dataset layer; run() checks again
+    // with what the dataset really has.
+    std::vector<std::string> dataset_layers;
+    if (p.has_dataset) dataset_layers = {"scans", "images", "semantic_images"};
+    pipeline->checkLayers(dataset_layers);
+    return pipeline;
+}
+
+void Pipeline::checkLayers(const std::vector<std::string>& dataset_layers) const {
+    const Impl& p = *impl_;
+    std::set<std::string> available(dataset_layers.begin(), dataset_layers.end());
+    for (std::size_t i = 0; i < p.stages.size(); ++i) {
+        const PipelineStage& ps = p.stages[i];
+        for (const auto& layer : ps.layers.readLayers()) {
+            if (available.count(layer) > 0) continue;
+            std::string later;
+            for (std::size_t j = i + 1; j < p.stages.size(); ++j) {
+                const auto& w = p.stages[j].layers.writtenLayers();
+                if (std::find(w.begin(), w.end(), layer) != w.end()) {
+                    later = "; " + p.stages[j].label + " writes it later: move that stage first";
+                    break;
+                }
+            }
+            std::string have;
+            for (const auto& a : available) have += (have.empty() ? "" : ", ") + a;
+            throw ConfigError(ps.where + ": " + ps.label + " reads layer '" + layer +
+                              "', but no earlier stage writes it and the dataset does not "
+                              "provide it (available before it: " +
+                              (have.empty() ? std::string("none") : have) + ")" + later);
+        }
+        for (const auto& layer : ps.layers.writtenLayers()) available.insert(layer);
+    }
+}
+
+const std::string& Pipeline::source() const { return impl_->source; }
+const fs::path& Pipeline::baseDir() const { return impl_->base_dir; }
+std::size_t Pipeline::numStages() const { return impl_->stages.size(); }
+const Stage& Pipeline::stage(std::size_t i) const { return *impl_->stages.at(i).stage; }
+std::vector<std::string> Pipeline::stageNames() const {
+    std::vector<std::string> names;
+    for (const auto& ps : impl_->stages) names.emplace_back(ps.stage->name());
+    return names;
+}
+bool Pipeline::hasDataset() const { return impl_->has_dataset; }
+const DatasetConfig& Pipeline::datasetConfig() const { return impl_->dataset; }
+const OutputConfig& Pipeline::outputConfig() const { return impl_->output; }
+const std::vector<fs::path>& Pipeline::pluginFiles() const { return impl_->plugin_files; }
+
+std::string Pipeline::resolvedConfigJson() const {
+    const Impl& p = *impl_;
+    nlohmann::json config;
+    config["source"] = p.source;
+    config["dataset"] = p.has_dataset ? specToJson(p.dataset_spec) : nlohmann::json(nullptr);
+    nlohmann::json plugins = nlohmann::json::array();
+    for (std::size_t i = 0; i < p.plugin_specs.size(); ++i) {
+        plugins.push_back({{"name", p.plugin_specs[i]}, {"file", p.plugin_files[i].string()}});
+    }
+    config["plugins"] = plugins;
+    nlohmann::json stages = nlohmann::json::array();
+    for (const auto& ps : p.stages) {
+        stages.push_back({{"stage", std::string(ps.stage->name())},
+                          {"options", specToJson(ps.spec)}});
+    }
+    config["stages"] = stages;
+    config["output"] = specToJson(p.output_spec);
+    config["overrides"] = p.overrides;
+    return config.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+void OutputConfig::declareOptions(OptionSpec& spec) {
+    spec.add("dir", "Output folder when `vdbmap run` has no -o (relative to the current folder)",
+             dir, std::string("out"));
+    spec.add("write_map", "Write map.vdb when a stage created a map", write_map, true);
+    spec.add("write_mesh", "Write mesh.ply when a stage created a mesh", write_mesh, true);
+    spec.add("write_report", "Write report.json (also when a stage fails)", write_report, true);
+}
+
+int exitCodeFor(const std::exception& error) {
+    if (dynamic_cast<const ConfigError*>(&error) != nullptr) return 2;
+    if (dynamic_cast<const PluginError*>(&error) != nullptr) return 2;
+    return 1;
+}
+
+}  // namespace vdbmap

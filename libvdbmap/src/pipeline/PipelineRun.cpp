@@ -1,0 +1,131 @@
+// SPDX-License-Identifier: Apache-2.0
+#include <algorithm>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <system_error>
+
+#include "pipeline/PipelineImpl.h"
+#include "vdbmap/Error.h"
+#include "vdbmap/core/Log.h"
+#include "vdbmap/core/Timer.h"
+#include "vdbmap/pipeline/Context.h"
+#include "vdbmap/pipeline/Report.h"
+
+namespace vdbmap {
+namespace fs = std::filesystem;
+
+namespace {
+
+const char* errorKind(const std::exception& e) {
+    if (dynamic_cast<const ConfigError*>(&e)) return "ConfigError";
+    if (dynamic_cast<const PluginError*>(&e)) return "PluginError";
+    if (dynamic_cast<const IoError*>(&e)) return "IoError";
+    if (dynamic_cast<const InvalidInput*>(&e)) return "InvalidInput";
+    if (dynamic_cast<const Error*>(&e)) return "Error";
+    return "std::exception";
+}
+
+std::string formatSeconds(double s) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof(buffer), "%.2f s", s);
+    return buffer;
+}
+
+}  // namespace
+
+namespace detail {
+
+std::vector<std::string> datasetLayers(const Dataset& dataset) {
+    std::vector<std::string> layers{"scans"};
+    if (dataset.cameras().empty()) return layers;
+    layers.emplace_back("images");
+    // Semantic images are optional per camera: probe the first frames.
+    const std::size_t probe = std::min<std::size_t>(dataset.numFrames(), 5);
+    for (std::size_t i = 0; i < probe; ++i) {
+        for (std::size_t cam = 0; cam < dataset.cameras().size(); ++cam) {
+            if (dataset.semanticPath(i, cam)) {
+                layers.emplace_back("semantic_images");
+                return layers;
+            }
+        }
+    }
+    return layers;
+}
+
+}  // namespace detail
+
+void Pipeline::run(const fs::path& output_dir, Report& report, bool quiet) {
+    Impl& p = *impl_;
+    Timer total;
+    reportVersions(report);
+    report.setJson({"config"}, resolvedConfigJson());
+    report.set({"output_dir"}, fs::absolute(output_dir).string());
+    report.set({"status", "ok"}, false);
+    report.set({"status", "state"}, "running");
+
+    auto writeReport = [&] {
+        report.set({"peak_memory_bytes"}, peakMemoryBytes());
+        report.set({"timings", "total_s"}, total.elapsedSeconds());
+        if (p.output.write_report) report.write(output_dir / "report.json");
+    };
+
+    std::string current = "setup";
+    try {
+        std::error_code ec;
+        fs::create_directories(output_dir, ec);
+        if (ec || !fs::is_directory(output_dir)) {
+            throw IoError(output_dir.string() + ": cannot create the output folder: " +
+                          ec.message());
+        }
+        Context ctx(output_dir, report, quiet);
+        if (p.has_dataset) {
+            current = "dataset";
+            Timer timer;
+            std::shared_ptr<Dataset> dataset = Dataset::open(p.dataset, p.base_dir);
+            checkLayers(detail::datasetLayers(*dataset));
+            report.set({"counts", "frames"}, dataset->numFrames());
+            report.set({"counts", "cameras"}, dataset->cameras().size());
+            report.set({"timings", "dataset_open_s"}, timer.elapsedSeconds());
+            ctx.setDataset(std::move(dataset));
+        }
+        nlohmann::json timings = nlohmann::json::array();
+        for (std::size_t i = 0; i < p.stages.size(); ++i) {
+            Stage& stage = *p.stages[i].stage;
+            current = std::string(stage.name());
+            logInfo("[" + std::to_string(i + 1) + "/" + std::to_string(p.stages.size()) + "] " +
+                    current);
+            Timer timer;
+            try {
+                stage.run(ctx);
+            } catch (...) {
+                report.set({"stages", current, "wall_time_s"}, timer.elapsedSeconds());
+                throw;
+            }
+            const double seconds = timer.elapsedSeconds();
+            report.set({"stages", current, "wall_time_s"}, seconds);
+            timings.push_back({{"index", i}, {"stage", current}, {"wall_time_s", seconds}});
+            report.setJson({"timings", "stages"}, timings.dump());
+            logInfo(current + " done in " + formatSeconds(seconds));
+        }
+        current = "output";
+        detail::writePipelineOutputs(ctx, p.output, report);
+    } catch (const std::exception& e) {
+        report.set({"status", "state"}, "failed");
+        report.set({"status", "error"}, std::string(e.what()));
+        report.set({"status", "error_type"}, errorKind(e));
+        report.set({"status", "failed_at"}, current);
+        report.set({"status", "exit_code"}, exitCodeFor(e));
+        try {
+            writeReport();
+        } catch (const std::exception& write_error) {
+            logError("could not write report.json: " + std::string(write_error.what()));
+        }
+        throw;
+    }
+    report.set({"status", "state"}, "done");
+    report.set({"status", "ok"}, true);
+    report.set({"status", "exit_code"}, 0);
+    writeReport();
+}
+
+}  // namespace vdbmap
