@@ -12,6 +12,7 @@
 namespace vdbmap {
 
 class Dataset;
+class Progress;
 class Raycaster;
 
 /// One image of the sequence: camera `camera` at frame `frame`.
@@ -22,8 +23,9 @@ struct View {
     Isometry3d T_C_W = Isometry3d::Identity();  ///< world -> camera
 };
 
-/// Every (frame, camera) of the dataset that has a colour image (`need_images`) or a
-/// semantic image (`need_semantics`); frames without the file are skipped.
+/// Every (frame, camera) of the dataset that has a colour image (if `need_images`) and a
+/// semantic image (if `need_semantics`); views without the needed file are skipped (with
+/// neither flag, every frame x camera). Ordered by frame, then camera.
 std::vector<View> datasetViews(const Dataset& dataset, bool need_images, bool need_semantics);
 
 /// The tests that make a face visible in a view.
@@ -58,8 +60,17 @@ struct Visibility {
 /// Decides for every pair (face, view) whether the face is visible: all corners project
 /// inside the image, in front of the camera within [min_depth_m, max_depth_m], front-facing,
 /// within max_view_angle_deg, and not occluded (if `occluder` is non-null and
-/// options.occlusion_test). Parallel over views with frustum culling first. Deterministic.
+/// options.occlusion_test). Parallel over views with frustum culling first (faces are binned
+/// into a coarse grid whose cell boxes are tested against each view's frustum). Deterministic:
+/// the result does not depend on the thread count. Deleted and degenerate faces are never
+/// visible. The occlusion rays go from the camera centre to the centroid and to the three
+/// corners pulled 5 % towards the centroid (so that they do not graze the neighbours); a
+/// sample is occluded by a hit closer than its distance minus occlusion_tolerance_m.
+/// `progress` (optional) is ticked once per view. Throws InvalidInput on bad options
+/// (max_view_angle_deg outside (0, 90], min_depth_m < 0, max_depth_m <= min_depth_m) or a
+/// view with a non-positive image size or focal length. An empty mesh or no views is a no-op.
 Visibility computeVisibility(const TriMesh& mesh, const std::vector<View>& views,
-                             const VisibilityOptions& options, const Raycaster* occluder);
+                             const VisibilityOptions& options, const Raycaster* occluder,
+                             Progress* progress = nullptr);
 
 }  // namespace vdbmap
