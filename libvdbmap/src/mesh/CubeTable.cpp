@@ -2,6 +2,7 @@
 #include "mesh/CubeTable.h"
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 namespace vdbmap::detail {
 namespace {
@@ -27,7 +28,7 @@ CubeTable buildTable() {
             edge_of[c][c | (1 << axis)] = edge_of[c | (1 << axis)][c] = e;
             ++e;
         }
-    auto edgeMid = [&](int edge) {
+    auto edgeMid = [&](int edge) -> Eigen::Vector3d {
         const int c = t.edge_corner[static_cast<std::size_t>(edge)];
         return cornerPos(c) + 0.5 * Eigen::Vector3d::Unit(t.edge_axis[static_cast<std::size_t>(edge)]);
     };

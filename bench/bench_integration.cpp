@@ -1,0 +1,168 @@
+// SPDX-License-Identifier: Apache-2.0
+// Integration / meshing benchmark of the adaptive TSDF (issue #3). A KITTI-like synthetic
+// street (ground, facades, parked cars, poles, tree crowns) is ray-cast in closed form by a
+// 64-beam spinning LiDAR (~120k points per scan) moving 1 m per scan. Scans are generated (or
+// loaded from --cache) before timing. Prints one JSON object per run on stdout.
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <fstream>
+#include <iostream>
+
+#include "../tests/support/SimLidar.h"
+#include "vdbmap/core/Timer.h"
+#include "vdbmap/map/AtsdfIntegrator.h"
+#include "vdbmap/map/BlockStats.h"
+#include "vdbmap/map/VoxelMap.h"
+#include "vdbmap/mesh/MarchingCubes.h"
+
+using namespace vdbmap;
+using namespace vdbmap::test;
+
+namespace {
+
+SimScene streetScene() {
+    SimScene s;
+    s.add(SimPlane{Vec3d(0, 0, 0), Vec3d::UnitZ()});
+    s.add(SimPlane{Vec3d(0, 9, 0), -Vec3d::UnitY()});
+    s.add(SimPlane{Vec3d(0, -9, 0), Vec3d::UnitY()});
+    for (int i = -10; i < 40; ++i) {
+        const double x = 6.0 * i;
+        if (i % 3 != 0) s.add(SimBox{Vec3d(x, 5.2, 0.0), Vec3d(x + 4.2, 7.0, 1.5)});
+        if (i % 4 != 1) s.add(SimBox{Vec3d(x + 1.0, -7.0, 0.0), Vec3d(x + 5.4, -5.2, 1.6)});
+        if (i % 2 == 0) {
+            s.add(SimBox{Vec3d(x + 2.9, 7.6, 0.0), Vec3d(x + 3.1, 7.8, 5.0)});
+            s.add(SimSphere{Vec3d(x + 3.0, -7.7, 4.5), 1.4});
+            s.add(SimBox{Vec3d(x + 2.9, -7.8, 0.0), Vec3d(x + 3.1, -7.6, 3.5)});
+        }
+    }
+    return s;
+}
+
+std::vector<std::vector<Vec3f>> makeScans(int num_scans, const std::string& cache) {
+    std::vector<std::vector<Vec3f>> scans(static_cast<std::size_t>(num_scans));
+    if (!cache.empty()) {
+        std::ifstream in(cache, std::ios::binary);
+        std::int32_t n = 0;
+        if (in.read(reinterpret_cast<char*>(&n), sizeof(n)) && n >= num_scans) {
+            for (auto& s : scans) {
+                std::uint64_t m = 0;
+                in.read(reinterpret_cast<char*>(&m), sizeof(m));
+                s.resize(m);
+                in.read(reinterpret_cast<char*>(s.data()), static_cast<std::streamsize>(m * sizeof(Vec3f)));
+            }
+            if (in) return scans;
+        }
+    }
+    const SimScene scene = streetScene();
+    SimLidarConfig lidar;
+    lidar.beams = 64;
+    lidar.azimuth_steps = 1875;
+    lidar.noise_sigma_m = 0.02;
+    tbb::parallel_for(0, num_scans, [&](int i) {
+        scans[static_cast<std::size_t>(i)] =
+            simulateScan(scene, lidar, poseAt(Vec3d(1.0 * i, 0.3 * std::sin(0.1 * i), 1.73)),
+                         static_cast<std::uint64_t>(i));
+    });
+    if (!cache.empty()) {
+        std::ofstream out(cache, std::ios::binary);
+        const std::int32_t n = num_scans;
+        out.write(reinterpret_cast<const char*>(&n), sizeof(n));
+        for (const auto& s : scans) {
+            const std::uint64_t m = s.size();
+            out.write(reinterpret_cast<const char*>(&m), sizeof(m));
+            out.write(reinterpret_cast<const char*>(s.data()), static_cast<std::streamsize>(m * sizeof(Vec3f)));
+        }
+    }
+    return scans;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"vdbmap adaptive TSDF integration benchmark"};
+    int num_scans = 100, threads = 1;
+    double voxel = 0.10, eps_min = 0.10, eps_max = 0.30;
+    std::string mode = "adaptive", cache;
+    bool carving = false;
+    app.add_option("--scans", num_scans, "number of scans (>= 1)");
+    app.add_option("--threads", threads, "TBB threads");
+    app.add_option("--voxel", voxel, "voxel size in m");
+    app.add_option("--eps-min", eps_min, "truncation min in m");
+    app.add_option("--eps-max", eps_max, "truncation max in m (the fixed value in fixed mode)");
+    app.add_option("--mode", mode, "adaptive | fixed");
+    app.add_option("--cache", cache, "binary file caching the generated scans");
+    app.add_flag("--space-carving", carving, "enable space carving");
+    CLI11_PARSE(app, argc, argv);
+    try {
+        if (num_scans < 1 || threads < 1) throw std::runtime_error("--scans and --threads must be >= 1");
+        const auto scans = makeScans(num_scans, cache);
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                                  static_cast<std::size_t>(threads));
+        VoxelMap map(voxel, static_cast<float>(eps_max));
+        AtsdfConfig cfg;
+        cfg.truncation.mode = parseTruncationMode(mode);
+        cfg.truncation.min_m = eps_min;
+        cfg.truncation.max_m = eps_max;
+        cfg.space_carving = carving;
+        AtsdfIntegrator integrator(map, cfg);
+        std::vector<double> ms;
+        std::size_t points = 0;
+        Timer total;
+        for (int i = 0; i < num_scans; ++i) {
+            const auto& pts = scans[static_cast<std::size_t>(i)];
+            Timer t;
+            const IntegrationStats s = integrator.integrateScan(
+                pts, poseAt(Vec3d(1.0 * i, 0.3 * std::sin(0.1 * i), 1.73)));
+            ms.push_back(1e3 * t.elapsedSeconds());
+            points += s.points_integrated;
+        }
+        const double seconds = total.elapsedSeconds();
+        Timer tf;
+        integrator.finalize();
+        const double finalize_s = tf.elapsedSeconds();
+        Timer tm;
+        MeshStats mesh_stats;
+        const auto mesh = extractMesh(map, MarchingCubesConfig{}, &mesh_stats);
+        const double mesh_s = tm.elapsedSeconds();
+        std::sort(ms.begin(), ms.end());
+        const double active = static_cast<double>(map.tsdf()->activeVoxelCount());
+        const double leaves = static_cast<double>(map.tsdf()->tree().leafCount());
+        const double grid_bytes = static_cast<double>(map.tsdf()->memUsage() + map.weight()->memUsage());
+        nlohmann::json j;
+        j["mode"] = mode;
+        j["threads"] = threads;
+        j["voxel_m"] = voxel;
+        j["eps_min_m"] = eps_min;
+        j["eps_max_m"] = eps_max;
+        j["scans"] = num_scans;
+        j["points"] = points;
+        j["points_per_scan"] = static_cast<double>(points) / num_scans;
+        j["voxel_updates"] = integrator.totals().voxel_updates;
+        j["seconds"] = seconds;
+        j["mpts_per_s"] = 1e-6 * static_cast<double>(points) / seconds;
+        j["ns_per_voxel_update"] = 1e9 * seconds / static_cast<double>(integrator.totals().voxel_updates);
+        j["ms_per_scan_median"] = ms[ms.size() / 2];
+        j["finalize_s"] = finalize_s;
+        j["mesh_s"] = mesh_s;
+        j["faces"] = mesh_stats.faces;
+        j["vertices"] = mesh_stats.vertices;
+        j["active_voxels"] = active;
+        j["leaves"] = leaves;
+        j["bytes_per_active_voxel"] = grid_bytes / active;
+        j["bytes_per_leaf_grids"] = grid_bytes / leaves;
+        j["bytes_per_leaf_stats"] = map.blockStats().bytesPerBlock();
+        j["blocks_with_stats"] = map.blockStats().size();
+        j["peak_rss_mb"] = static_cast<double>(peakMemoryBytes()) / (1024.0 * 1024.0);
+        std::cout << j.dump() << std::endl;
+    } catch (const std::exception& e) {
+        std::cerr << "bench_integration: " << e.what() << "\n";
+        return 1;
+    }
+    return 0;
+}
