@@ -1,13 +1,281 @@
 // SPDX-License-Identifier: Apache-2.0
-// Placeholder until the evaluation command lands: `vdbmap eval` exists and fails cleanly.
+// `vdbmap eval --gt SEQ/gt --run OUTDIR`: geometry, semantic and texture scores of a run.
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
 #include "Commands.h"
 #include "vdbmap/Error.h"
+#include "vdbmap/eval/GeometryMetrics.h"
+#include "vdbmap/eval/GtViews.h"
+#include "vdbmap/eval/SemanticMetrics.h"
+#include "vdbmap/eval/TextureMetrics.h"
+#include "vdbmap/io/AtomicFile.h"
+#include "vdbmap/io/Image.h"
+#include "vdbmap/io/LabelSet.h"
+#include "vdbmap/io/MeshIO.h"
+#include "vdbmap/io/PointCloudIO.h"
+#include "vdbmap/render/Raycaster.h"
+#include "vdbmap/sim/SimScene.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct EvalArgs {
+    std::string gt_dir;
+    std::string run_dir;
+    std::string json_path;
+    std::string error_ply;
+    std::string tau = "0.05,0.1,0.2";
+    double cutoff_m = 0.5;
+    double sample_spacing_m = 0.02;
+    bool quiet = false;
+};
+
+std::vector<double> parseTau(const std::string& text) {
+    std::vector<double> out;
+    std::stringstream ss(text);
+    std::string item;
+    while (std::getline(ss, item, ',')) {
+        try {
+            std::size_t used = 0;
+            const double v = std::stod(item, &used);
+            if (used != item.size() || !(v > 0)) throw std::invalid_argument(item);
+            out.push_back(v);
+        } catch (const std::exception&) {
+            throw vdbmap::ConfigError("vdbmap eval: --tau must be positive numbers separated by "
+                                      "commas, got '" + item + "' in '" + text + "'");
+        }
+    }
+    if (out.empty()) throw vdbmap::ConfigError("vdbmap eval: --tau is empty");
+    return out;
+}
+
+// Jet-like colour ramp: blue (0) -> green -> red (>= max).
+std::array<std::uint8_t, 3> errorColor(float e, float max_e) {
+    const float t = std::clamp(e / max_e, 0.0f, 1.0f);
+    const float r = std::clamp(1.5f - std::abs(4.0f * t - 3.0f), 0.0f, 1.0f);
+    const float g = std::clamp(1.5f - std::abs(4.0f * t - 2.0f), 0.0f, 1.0f);
+    const float b = std::clamp(1.5f - std::abs(4.0f * t - 1.0f), 0.0f, 1.0f);
+    return {static_cast<std::uint8_t>(255 * r), static_cast<std::uint8_t>(255 * g),
+            static_cast<std::uint8_t>(255 * b)};
+}
+
+nlohmann::json statsJson(const vdbmap::DistanceStats& s) {
+    return {{"count", s.count}, {"mean_m", s.mean}, {"median_m", s.median},
+            {"p90_m", s.p90},   {"max_m", s.max},   {"rms_m", s.rms}};
+}
+
+void runEval(const EvalArgs& args, int& exit_code) {
+    const fs::path gt(args.gt_dir);
+    const fs::path run(args.run_dir);
+    if (!fs::is_directory(gt)) throw vdbmap::IoError("vdbmap eval: --gt " + gt.string() + ": not a folder");
+    if (!fs::is_directory(run)) {
+        throw vdbmap::IoError("vdbmap eval: --run " + run.string() + ": not a folder");
+    }
+    const std::vector<double> tau = parseTau(args.tau);
+    nlohmann::json report;
+    report["gt"] = gt.string();
+    report["run"] = run.string();
+    std::ostringstream table;
+    table << std::fixed;
+
+    // Ground-truth mesh with labels (needed by every section).
+    const fs::path gt_mesh_path = gt / "mesh.ply";
+    if (!fs::exists(gt_mesh_path)) {
+        throw vdbmap::IoError("vdbmap eval: " + gt_mesh_path.string() + ": missing");
+    }
+    std::vector<std::uint8_t> gt_labels;
+    const vdbmap::TriMesh gt_mesh = vdbmap::readMeshPly(gt_mesh_path, &gt_labels);
+    std::vector<vdbmap::Vec3f> gt_vertices;
+    std::vector<std::array<std::uint32_t, 3>> gt_triangles;
+    std::vector<std::uint32_t> gt_face_index;
+    vdbmap::triMeshArrays(gt_mesh, gt_vertices, gt_triangles, &gt_face_index);
+    const vdbmap::Raycaster gt_rc(gt_vertices, gt_triangles);
+
+    // Geometry.
+    const fs::path pred_mesh_path = run / "mesh.ply";
+    if (fs::exists(pred_mesh_path)) {
+        const vdbmap::TriMesh pred_mesh = vdbmap::readMeshPly(pred_mesh_path);
+        std::vector<vdbmap::Vec3f> pv;
+        std::vector<std::array<std::uint32_t, 3>> pt;
+        vdbmap::triMeshArrays(pred_mesh, pv, pt);
+        std::vector<vdbmap::Vec3f> observed;
+        const fs::path obs_path = gt / "observed_points.ply";
+        if (fs::exists(obs_path)) {
+            observed = vdbmap::readPlyPoints(obs_path).points;
+        } else {
+            table << "note: " << obs_path.string()
+                  << " missing: completeness uses ground-truth mesh vertices\n";
+            observed = gt_vertices;
+        }
+        vdbmap::GeometryEvalOptions go;
+        go.tau_m = tau;
+        go.observed_cutoff_m = args.cutoff_m;
+        go.sample_spacing_m = args.sample_spacing_m;
+        std::vector<float> vertex_error;
+        const vdbmap::GeometryMetrics g = vdbmap::evaluateGeometry(
+            pv, pt, gt_rc, observed, go, args.error_ply.empty() ? nullptr : &vertex_error);
+        nlohmann::json j;
+        j["mesh"] = pred_mesh_path.string();
+        j["faces"] = g.pred_faces;
+        j["accuracy"] = statsJson(g.accuracy);
+        j["completeness"] = statsJson(g.completeness);
+        j["chamfer_l1_m"] = g.chamfer_l1;
+        j["pred_samples"] = g.pred_samples;
+        j["pred_samples_scored"] = g.pred_samples_used;
+        j["observed_cutoff_m"] = args.cutoff_m;
+        j["observed_points"] = observed.size();
+        for (const auto& f : g.fscores) {
+            j["fscore"].push_back({{"tau_m", f.tau_m},
+                                   {"precision", f.precision},
+                                   {"recall", f.recall},
+                                   {"fscore", f.fscore}});
+        }
+        report["geometry"] = j;
+        table << std::setprecision(4) << "geometry (" << g.pred_faces << " faces)\n"
+              << "  accuracy     mean " << g.accuracy.mean << "  median " << g.accuracy.median
+              << "  p90 " << g.accuracy.p90 << "  max " << g.accuracy.max << " m\n"
+              << "  completeness mean " << g.completeness.mean << "  median "
+              << g.completeness.median << "  p90 " << g.completeness.p90 << "  max "
+              << g.completeness.max << " m\n"
+              << "  chamfer-L1   " << g.chamfer_l1 << " m\n";
+        for (const auto& f : g.fscores) {
+            table << "  tau " << f.tau_m << " m: precision " << f.precision << "  recall "
+                  << f.recall << "  F " << f.fscore << "\n";
+        }
+        if (!args.error_ply.empty()) {
+            std::vector<std::array<std::uint8_t, 3>> colors;
+            colors.reserve(vertex_error.size());
+            const float max_e = static_cast<float>(*std::max_element(tau.begin(), tau.end()));
+            for (float e : vertex_error) colors.push_back(errorColor(e, max_e));
+            vdbmap::PlyWriteOptions opt;
+            opt.vertex_colors = &colors;
+            opt.vertex_normals = false;
+            vdbmap::writeMeshPly(args.error_ply, pred_mesh, opt);
+            table << "  error colouring (blue 0 -> red " << max_e << " m): " << args.error_ply
+                  << "\n";
+        }
+    } else {
+        table << "geometry: skipped (" << pred_mesh_path.string() << " missing)\n";
+        report["geometry"] = nullptr;
+    }
+
+    // Semantics.
+    const fs::path sem_path = run / "semantic" / "mesh.ply";
+    if (fs::exists(sem_path) && !gt_labels.empty()) {
+        std::vector<std::uint8_t> labels;
+        const vdbmap::TriMesh sem_mesh = vdbmap::readMeshPly(sem_path, &labels);
+        std::vector<vdbmap::Vec3f> sv;
+        std::vector<std::array<std::uint32_t, 3>> st;
+        std::vector<std::uint32_t> sf;
+        vdbmap::triMeshArrays(sem_mesh, sv, st, &sf);
+        if (labels.size() != sem_mesh.n_faces()) {
+            throw vdbmap::IoError(sem_path.string() + ": has " + std::to_string(labels.size()) +
+                                  " face labels for " + std::to_string(sem_mesh.n_faces()) +
+                                  " faces");
+        }
+        std::vector<std::uint8_t> tri_labels;
+        for (std::uint32_t f : sf) tri_labels.push_back(labels[f]);
+        std::vector<std::uint8_t> gt_tri_labels;
+        for (std::uint32_t f : gt_face_index) gt_tri_labels.push_back(gt_labels[f]);
+        const vdbmap::SemanticMetrics s =
+            vdbmap::evaluateSemantics(sv, st, tri_labels, gt_rc, gt_tri_labels, args.cutoff_m);
+        const vdbmap::LabelSet label_set = vdbmap::LabelSet::defaults();
+        nlohmann::json j;
+        j["mesh"] = sem_path.string();
+        j["overall_accuracy"] = s.overall_accuracy;
+        j["mean_class_accuracy"] = s.mean_class_accuracy;
+        j["miou"] = s.miou;
+        j["unlabelled_fraction"] = s.unlabelled_fraction;
+        j["matched_area_m2"] = s.matched_area_m2;
+        j["unmatched_area_m2"] = s.unmatched_area_m2;
+        for (const auto& c : s.classes) {
+            j["classes"].push_back({{"id", c.id},
+                                    {"name", label_set.name(c.id)},
+                                    {"area_m2", c.gt_area_m2},
+                                    {"accuracy", c.accuracy},
+                                    {"iou", c.iou}});
+        }
+        report["semantics"] = j;
+        table << std::setprecision(4) << "semantics\n"
+              << "  overall accuracy " << s.overall_accuracy << "  mean class accuracy "
+              << s.mean_class_accuracy << "  mIoU " << s.miou << "  unlabelled "
+              << s.unlabelled_fraction << "\n";
+    } else {
+        table << "semantics: skipped ("
+              << (gt_labels.empty() ? gt_mesh_path.string() + " has no face labels"
+                                    : sem_path.string() + " missing")
+              << ")\n";
+        report["semantics"] = nullptr;
+    }
+
+    // Texture.
+    const fs::path obj_path = run / "textured" / "mesh.obj";
+    const fs::path views_dir = gt / "views";
+    if (fs::exists(obj_path) && fs::exists(views_dir / "views.json")) {
+        vdbmap::ObjMesh obj;
+        std::vector<cv::Mat> textures;
+        vdbmap::loadTexturedObj(obj_path, obj, textures);
+        const auto views = vdbmap::readGtViews(views_dir);
+        std::vector<cv::Mat> images;
+        for (const auto& v : views) images.push_back(vdbmap::readColorImage(views_dir / v.image));
+        const vdbmap::TextureMetrics t =
+            vdbmap::evaluateTexture(obj, textures, views, images, &gt_rc);
+        report["texture"] = {{"mesh", obj_path.string()},
+                             {"views", t.views},
+                             {"pixels_compared", t.pixels_compared},
+                             {"coverage", t.coverage},
+                             {"mae", t.mae},
+                             {"psnr_db", t.psnr_db}};
+        table << std::setprecision(3) << "texture (" << t.views << " held-out views)\n"
+              << "  PSNR " << t.psnr_db << " dB  MAE " << t.mae << " (0-255)  coverage "
+              << t.coverage << "\n";
+    } else {
+        table << "texture: skipped ("
+              << (fs::exists(obj_path) ? (views_dir / "views.json").string() : obj_path.string())
+              << " missing)\n";
+        report["texture"] = nullptr;
+    }
+
+    if (!args.json_path.empty()) {
+        vdbmap::AtomicFile file(args.json_path);
+        {
+            std::ofstream out(file.tempPath());
+            out << report.dump(2) << "\n";
+            if (!out) throw vdbmap::IoError(args.json_path + ": write failed");
+        }
+        file.commit();
+    }
+    if (!args.quiet) std::cout << table.str();
+    exit_code = 0;
+}
+
+}  // namespace
 
 void addEvalCommand(CLI::App& app, int& exit_code) {
-    CLI::App* cmd = app.add_subcommand("eval", "Evaluate a run against ground truth");
-    cmd->allow_extras();
-    cmd->callback([&exit_code] {
-        exit_code = 1;
-        throw vdbmap::Error("vdbmap eval: not implemented in this build");
-    });
+    auto args = std::make_shared<EvalArgs>();
+    CLI::App* cmd = app.add_subcommand(
+        "eval", "Score a run against simulator ground truth (geometry, semantics, texture)");
+    cmd->add_option("--gt", args->gt_dir, "Ground-truth folder (SEQ/gt from vdbmap-sim)")
+        ->required();
+    cmd->add_option("--run", args->run_dir, "Output folder of `vdbmap run`")->required();
+    cmd->add_option("--json", args->json_path, "Write the metrics as JSON to this file");
+    cmd->add_option("--error-ply", args->error_ply,
+                    "Write the run's mesh with per-vertex error colours (blue 0 -> red max tau)");
+    cmd->add_option("--tau", args->tau, "F-score thresholds in metres, comma-separated")
+        ->capture_default_str();
+    cmd->add_option("--cutoff", args->cutoff_m,
+                    "Prediction farther than this (m) from observed ground truth is not scored")
+        ->capture_default_str();
+    cmd->add_option("--sample-spacing", args->sample_spacing_m,
+                    "Sample spacing (m) on the run's mesh for accuracy")
+        ->capture_default_str();
+    cmd->add_flag("-q,--quiet", args->quiet, "Print nothing (use --json)");
+    cmd->callback([args, &exit_code] { runEval(*args, exit_code); });
 }

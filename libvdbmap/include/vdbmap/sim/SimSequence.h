@@ -1,0 +1,51 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+#include "vdbmap/io/Camera.h"
+
+namespace vdbmap {
+
+/// Everything `vdbmap-sim` can vary.
+struct SimOptions {
+    std::string scene = "street";  ///< "street" or "suv"
+    std::size_t frames = 20;       ///< 0 = the scene's default (street 20, suv 126)
+    std::uint64_t seed = 1;
+    std::string lidar;     ///< preset name; "" = scene default (street hdl64, suv vls128)
+    double size_m = 60.0;  ///< street length
+    int cameras = 1;       ///< 1 (image_2) or 2 (image_2 + image_3)
+    bool occluders = false;   ///< moving "pedestrian" boxes in some frames, images only
+    int label_noise_px = 0;   ///< boundary jitter of semantic_2/3, pixels
+    bool images = true;       ///< render image_k / semantic_k
+    std::size_t gt_views = 4; ///< held-out views in gt/views (0 = none)
+    std::filesystem::path spot_dir;  ///< folder with the Spot mesh ("" = street without Spot)
+    /// The paper's vignetting model g(r) = 1 + a r^2 + b r^4 + c r^6 (Rohlfing 2012); the
+    /// simulated image is I / g(r), so the correction g(r) * I recovers I.
+    std::array<double, 3> vignetting_abc{0.3, 0.1, 0.05};
+    double exposure_spread = 0.2;  ///< per-frame gain uniform in [1 - s, 1 + s]
+    bool quiet = false;
+};
+
+/// What was written.
+struct SimSummary {
+    std::size_t frames = 0;
+    std::size_t points = 0;            ///< LiDAR returns over all frames
+    std::size_t gt_faces = 0;
+    std::size_t observed_points = 0;   ///< gt/observed_points.ply
+    double seconds = 0;
+};
+
+/// KITTI camera intrinsics used for image_2/image_3 (1242x375, fx = fy = 721.5377).
+CameraIntrinsics kittiLikeIntrinsics();
+
+/// Simulates a sequence and writes it into `out_dir` in the KITTI layout of DATA.md, plus
+/// vignetting.txt, exposure.txt and gt/ (mesh.ply with face labels, textured/mesh.obj,
+/// observed_points.ply, views/). Deterministic for a seed. Throws ConfigError for bad options
+/// and IoError for write failures.
+SimSummary writeSimSequence(const SimOptions& options, const std::filesystem::path& out_dir);
+
+}  // namespace vdbmap

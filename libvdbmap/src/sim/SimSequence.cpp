@@ -1,0 +1,310 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "vdbmap/sim/SimSequence.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <sstream>
+#include <unordered_set>
+
+#include "sim/SimImaging.h"
+#include "vdbmap/Error.h"
+#include "vdbmap/core/Log.h"
+#include "vdbmap/core/Progress.h"
+#include "vdbmap/eval/GtViews.h"
+#include "vdbmap/eval/TexturedRender.h"
+#include "vdbmap/io/AtomicFile.h"
+#include "vdbmap/io/CalibIO.h"
+#include "vdbmap/io/Image.h"
+#include "vdbmap/io/LabelSet.h"
+#include "vdbmap/io/MeshIO.h"
+#include "vdbmap/io/PointCloudIO.h"
+#include "vdbmap/io/PoseIO.h"
+#include "vdbmap/render/Raycaster.h"
+#include "vdbmap/sim/LidarModel.h"
+#include "vdbmap/sim/Scenes.h"
+
+namespace vdbmap {
+
+namespace {
+
+std::string frameName(std::size_t i) {
+    std::ostringstream s;
+    s << std::setw(6) << std::setfill('0') << i;
+    return s.str();
+}
+
+void writeText(const std::filesystem::path& path, const std::string& text) {
+    AtomicFile file(path);
+    {
+        std::ofstream out(file.tempPath());
+        out << text;
+        if (!out) throw IoError(path.string() + ": write failed");
+    }
+    file.commit();
+}
+
+// KITTI's LiDAR -> camera-0 rotation (x_cam = -y_L, y_cam = -z_L, z_cam = x_L), a small
+// extra rotation and an offset, so that a pipeline ignoring Tr builds a visibly wrong map.
+Isometry3d simTr() {
+    Eigen::Matrix3d R;
+    R << 0, -1, 0, 0, 0, -1, 1, 0, 0;
+    Isometry3d Tr = Isometry3d::Identity();
+    Tr.linear() = Eigen::AngleAxisd(0.01, Vec3d::UnitX()).toRotationMatrix() * R;
+    Tr.translation() = Vec3d(-0.004, -0.076, -0.272);
+    return Tr;
+}
+
+// Baselines of KITTI cameras 0..3 in camera-0 coordinates: X_Ck = X_C0 + t_k.
+Vec3d cameraOffset(int k) {
+    switch (k) {
+        case 1: return {-0.537, 0.0, 0.0};
+        case 2: return {0.06, 0.0, 0.0};
+        case 3: return {-0.47, 0.0, 0.0};
+        default: return Vec3d::Zero();
+    }
+}
+
+Mat34d projection(const CameraIntrinsics& K, const Vec3d& t) {
+    Eigen::Matrix3d Km;
+    Km << K.fx, 0, K.cx, 0, K.fy, K.cy, 0, 0, 1;
+    Mat34d P;
+    P.leftCols<3>() = Km;
+    P.col(3) = Km * t;
+    return P;
+}
+
+Isometry3d interpolatePose(const Isometry3d& a, const Isometry3d& b, double t) {
+    Isometry3d out = Isometry3d::Identity();
+    const Eigen::Quaterniond qa(a.rotation()), qb(b.rotation());
+    out.linear() = qa.slerp(t, qb).toRotationMatrix();
+    out.translation() = (1 - t) * a.translation() + t * b.translation();
+    return out;
+}
+
+}  // namespace
+
+CameraIntrinsics kittiLikeIntrinsics() {
+    CameraIntrinsics K;
+    K.width = 1242;
+    K.height = 375;
+    K.fx = K.fy = 721.5377;
+    K.cx = 609.5593;
+    K.cy = 172.854;
+    return K;
+}
+
+SimSummary writeSimSequence(const SimOptions& options, const std::filesystem::path& out_dir) {
+    const auto t0 = std::chrono::steady_clock::now();
+    if (options.cameras != 1 && options.cameras != 2) {
+        throw ConfigError("vdbmap-sim: --cameras must be 1 or 2, got " +
+                          std::to_string(options.cameras));
+    }
+    if (options.label_noise_px < 0 || options.label_noise_px > 50) {
+        throw ConfigError("vdbmap-sim: --label-noise must be in [0, 50] px, got " +
+                          std::to_string(options.label_noise_px));
+    }
+    SceneSetup setup;
+    std::string lidar_name = options.lidar;
+    if (options.scene == "street") {
+        StreetSceneOptions so;
+        so.length_m = options.size_m;
+        so.frames = options.frames ? options.frames : 20;
+        so.seed = options.seed;
+        so.spot_dir = options.spot_dir;
+        setup = buildStreetScene(so);
+        if (lidar_name.empty()) lidar_name = "hdl64";
+    } else if (options.scene == "suv") {
+        SuvSceneOptions so;
+        so.frames = options.frames ? options.frames : 126;
+        so.seed = options.seed;
+        setup = buildSuvScene(so);
+        if (lidar_name.empty()) lidar_name = "vls128";
+    } else {
+        throw ConfigError("vdbmap-sim: unknown scene '" + options.scene +
+                          "' (valid: street, suv)");
+    }
+    const LidarModel lidar = lidarPreset(lidar_name);
+    const std::size_t n_frames = setup.T_S_V.size();
+
+    // Frames: S scene, V vehicle, L LiDAR, C0 camera 0; the world W is C0 at frame 0.
+    const Isometry3d Tr = simTr();  // T_C0_L
+    Isometry3d T_V_L = Isometry3d::Identity();
+    T_V_L.translation() = Vec3d(0, 0, setup.lidar_height_m);
+    std::vector<Isometry3d> T_S_C0(n_frames);
+    for (std::size_t f = 0; f < n_frames; ++f) T_S_C0[f] = setup.T_S_V[f] * T_V_L * Tr.inverse();
+    const Isometry3d T_W_S = T_S_C0[0].inverse();
+    setup.scene.transform(T_W_S);
+    std::vector<Isometry3d> T_W_C0(n_frames);
+    for (std::size_t f = 0; f < n_frames; ++f) T_W_C0[f] = T_W_S * T_S_C0[f];
+
+    const SimScene& scene = setup.scene;
+    const Raycaster raycaster(scene.mesh.positions, scene.triangleIndices());
+    logInfo("vdbmap-sim: scene '" + options.scene + "' with " +
+            std::to_string(scene.numTriangles()) + " triangles, " + std::to_string(n_frames) +
+            " frames, LiDAR " + lidar.name);
+
+    std::filesystem::create_directories(out_dir / "velodyne");
+    std::filesystem::create_directories(out_dir / "gt" / "views");
+    std::filesystem::create_directories(out_dir / "gt" / "textured");
+
+    // Calibration, poses, times.
+    const CameraIntrinsics K = kittiLikeIntrinsics();
+    KittiCalib calib;
+    for (int k = 0; k < 4; ++k) calib.P[k] = projection(K, cameraOffset(k));
+    calib.Tr = Tr;
+    writeKittiCalib(out_dir / "calib.txt", calib);
+    writeKittiPoses(out_dir / "poses.txt", T_W_C0);
+    {
+        std::ostringstream times;
+        times << std::setprecision(9);
+        for (std::size_t f = 0; f < n_frames; ++f) times << f / setup.frame_rate_hz << "\n";
+        writeText(out_dir / "times.txt", times.str());
+    }
+
+    SimSummary summary;
+    summary.frames = n_frames;
+    std::vector<Vec3f> observed;
+    std::unordered_set<std::uint64_t> observed_voxels;
+    const float observed_voxel_m = 0.02f;
+    const std::vector<std::uint8_t>& labels = scene.face_labels;
+
+    std::vector<double> exposure(n_frames, 1.0);
+    ImagingOptions imaging;
+    imaging.vignetting_abc = options.vignetting_abc;
+    imaging.label_noise_px = options.label_noise_px;
+    {
+        Progress progress("vdbmap-sim " + options.scene, n_frames, options.quiet);
+        for (std::size_t f = 0; f < n_frames; ++f) {
+            const std::uint64_t frame_seed = options.seed * 1000003ULL + f * 7919ULL + 17ULL;
+            const Isometry3d T_W_L = T_W_C0[f] * Tr;
+            const LidarScan scan = simulateScan(lidar, raycaster, T_W_L, frame_seed);
+            writeBin(out_dir / "velodyne" / (frameName(f) + ".bin"), scan.points_L);
+            summary.points += scan.points_L.size();
+            for (const auto& p : scan.true_points_W) {
+                const auto q = (p / observed_voxel_m).array().floor().cast<std::int64_t>();
+                const std::uint64_t key = (static_cast<std::uint64_t>(q.x() & 0x1FFFFF) << 42) |
+                                          (static_cast<std::uint64_t>(q.y() & 0x1FFFFF) << 21) |
+                                          static_cast<std::uint64_t>(q.z() & 0x1FFFFF);
+                if (observed_voxels.insert(key).second) observed.push_back(p);
+            }
+            if (options.images) {
+                std::mt19937_64 rng(frame_seed ^ 0x5eedULL);
+                std::uniform_real_distribution<double> gain(1.0 - options.exposure_spread,
+                                                            1.0 + options.exposure_spread);
+                exposure[f] = f == 0 ? 1.0 : gain(rng);
+                SimScene occluder;
+                std::unique_ptr<Raycaster> occluder_rc;
+                if (options.occluders && (rng() % 3 == 0)) {
+                    occluder = makeOccluder(T_W_S * setup.T_S_V[f], setup.occluder_ahead_m, rng,
+                                            options.seed);
+                    occluder_rc = std::make_unique<Raycaster>(occluder.mesh.positions,
+                                                              occluder.triangleIndices());
+                }
+                for (int c = 0; c < options.cameras; ++c) {
+                    const int k = 2 + c;
+                    Isometry3d T_Ck_C0 = Isometry3d::Identity();
+                    T_Ck_C0.translation() = cameraOffset(k);
+                    const Isometry3d T_C_W = T_Ck_C0 * T_W_C0[f].inverse();
+                    std::vector<RenderLayer> layers{
+                        RenderLayer{&scene.mesh, &scene.textures, &raycaster, &labels}};
+                    if (occluder_rc) {
+                        layers.push_back(RenderLayer{&occluder.mesh, &occluder.textures,
+                                                     occluder_rc.get(), &occluder.face_labels});
+                    }
+                    RenderOptions ro;
+                    ro.lambert = true;
+                    RenderedView view = renderView(layers, K, T_C_W, ro);
+                    applyVignettingAndExposure(view.color, imaging, exposure[f]);
+                    addLabelNoise(view.labels, imaging, rng);
+                    const std::string kk = std::to_string(k);
+                    writePng(out_dir / ("image_" + kk) / (frameName(f) + ".png"), view.color);
+                    writePng(out_dir / ("semantic_" + kk) / (frameName(f) + ".png"),
+                             view.labels);
+                }
+            }
+            progress.tick();
+        }
+    }
+    if (options.images) {
+        std::ostringstream vig, exp;
+        vig << "# Radial vignetting applied to image_k (paper Sec. vignetting, Rohlfing 2012):\n"
+            << "# I_observed = I / g(r), g(r) = 1 + a r^2 + b r^4 + c r^6,\n"
+            << "# r = |(u,v) - (cx,cy)| / sqrt(cx^2 + cy^2), (cx,cy) = image centre\n"
+            << "# a b c\n"
+            << options.vignetting_abc[0] << " " << options.vignetting_abc[1] << " "
+            << options.vignetting_abc[2] << "\n";
+        writeText(out_dir / "vignetting.txt", vig.str());
+        exp << "# per-frame exposure gain multiplied into image_k (frame 0 = 1)\n"
+            << std::setprecision(9);
+        for (double e : exposure) exp << e << "\n";
+        writeText(out_dir / "exposure.txt", exp.str());
+    }
+
+    // Ground truth.
+    TriMesh gt_mesh = scene.toTriMesh();
+    gt_mesh.request_face_normals();
+    gt_mesh.request_vertex_normals();
+    gt_mesh.update_normals();
+    const LabelSet label_set = LabelSet::defaults();
+    std::vector<std::array<std::uint8_t, 3>> face_colors;
+    for (std::uint8_t l : labels) face_colors.push_back(label_set.color(l));
+    PlyWriteOptions ply;
+    ply.face_labels = &labels;
+    ply.face_colors = &face_colors;
+    writeMeshPly(out_dir / "gt" / "mesh.ply", gt_mesh, ply);
+    scene.writeTexturedObj(out_dir / "gt" / "textured" / "mesh.obj");
+    PointCloud observed_cloud;
+    observed_cloud.points = std::move(observed);
+    writePlyPoints(out_dir / "gt" / "observed_points.ply", observed_cloud);
+    summary.gt_faces = scene.numTriangles();
+    summary.observed_points = observed_cloud.size();
+
+    // Held-out views: camera 2 halfway between frames, no vignetting, no exposure change.
+    std::vector<GtView> views;
+    const std::size_t n_views = std::min(options.gt_views, n_frames > 1 ? n_frames - 1 : 0);
+    for (std::size_t v = 0; v < n_views; ++v) {
+        const std::size_t f = (v * (n_frames - 1)) / n_views;
+        const Isometry3d T_W_C0_mid = interpolatePose(T_W_C0[f], T_W_C0[f + 1], 0.5);
+        Isometry3d T_C2_C0 = Isometry3d::Identity();
+        T_C2_C0.translation() = cameraOffset(2);
+        GtView view;
+        view.image = "view_" + frameName(v) + ".png";
+        view.intrinsics = K;
+        view.T_W_C = T_W_C0_mid * T_C2_C0.inverse();
+        RenderOptions ro;
+        ro.lambert = true;
+        const RenderedView r =
+            renderView({RenderLayer{&scene.mesh, &scene.textures, &raycaster, &labels}}, K,
+                       view.T_W_C.inverse(), ro);
+        writePng(out_dir / "gt" / "views" / view.image, r.color);
+        views.push_back(view);
+    }
+    writeGtViews(out_dir / "gt" / "views", views);
+
+    summary.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    nlohmann::json info;
+    info["scene"] = options.scene;
+    info["seed"] = options.seed;
+    info["frames"] = n_frames;
+    info["lidar"] = lidar.name;
+    info["size_m"] = options.size_m;
+    info["cameras"] = options.cameras;
+    info["occluders"] = options.occluders;
+    info["label_noise_px"] = options.label_noise_px;
+    info["vignetting_abc"] = options.vignetting_abc;
+    info["lidar_points"] = summary.points;
+    info["gt_faces"] = summary.gt_faces;
+    info["observed_points"] = summary.observed_points;
+    info["observed_voxel_m"] = observed_voxel_m;
+    writeText(out_dir / "gt" / "sim.json", info.dump(2) + "\n");
+    return summary;
+}
+
+}  // namespace vdbmap
