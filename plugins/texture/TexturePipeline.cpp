@@ -21,6 +21,10 @@ namespace vdbmap::texture {
 
 namespace {
 
+/// The image centre (u, v) of the paper's vignetting radius: the middle of the pixel grid.
+double imageCentreU(const CameraIntrinsics& in) { return (in.width - 1) / 2.0; }
+double imageCentreV(const CameraIntrinsics& in) { return (in.height - 1) / 2.0; }
+
 /// Loads view v, converts to float and applies the vignetting correction of its camera.
 cv::Mat loadCorrected(const ImageLoader& load, const std::vector<View>& views, std::size_t v,
                       const std::vector<VignettingParams>* vignetting) {
@@ -34,8 +38,8 @@ cv::Mat loadCorrected(const ImageLoader& load, const std::vector<View>& views, s
                            std::to_string(view.intrinsics.height));
     }
     if (vignetting && view.camera < vignetting->size()) {
-        correctVignetting(image, (*vignetting)[view.camera], view.intrinsics.cx,
-                          view.intrinsics.cy);
+        correctVignetting(image, (*vignetting)[view.camera], imageCentreU(view.intrinsics),
+                          imageCentreV(view.intrinsics));
     }
     return image;
 }
@@ -146,7 +150,8 @@ std::vector<VignettingEstimate> estimateFromImages(
             const Eigen::Vector2f c = (obs.pixels[0] + obs.pixels[1] + obs.pixels[2]) / 3.0f;
             const auto& in = views[obs.view].intrinsics;
             samples.push_back({static_cast<std::uint32_t>(f), obs.view, luminance,
-                               static_cast<float>(vignettingRadius(c.x(), c.y(), in.cx, in.cy))});
+                               static_cast<float>(vignettingRadius(c.x(), c.y(), imageCentreU(in),
+                                                                   imageCentreV(in)))});
         }
     }
     return estimateVignetting(samples, view_camera, num_cameras);

@@ -11,7 +11,8 @@ namespace vdbmap::texture {
 /// Radial vignetting model of the paper (Sec. 5.2.1, after Rohlfing 2012):
 ///   g(r) = 1 + a r^2 + b r^4 + c r^6,  I'(u, v) = g(r) * I(u, v),
 ///   r = |(u, v) - (cu, cv)| / sqrt(cu^2 + cv^2),
-/// with (cu, cv) the image centre, taken as the principal point (cx, cy) in pixels.
+/// with (cu, cv) the image centre ((width - 1) / 2, (height - 1) / 2) in pixels, as the
+/// paper's "image center" (not the principal point).
 struct VignettingParams {
     double a = 0, b = 0, c = 0;
     bool isIdentity() const { return a == 0 && b == 0 && c == 0; }

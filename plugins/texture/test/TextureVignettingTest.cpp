@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <catch2/catch.hpp>
 
+#include "vdbmap/Error.h"
+
 #include <random>
 
 #include "Vignetting.h"
