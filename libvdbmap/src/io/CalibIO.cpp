@@ -36,8 +36,8 @@ std::vector<CalibLine> readCalibLines(const std::filesystem::path& path) {
         entry.text = std::string(content.substr(0, 160));
         if (colon == std::string_view::npos || colon == 0) {
             throw IoError(detail::fileLine(path, line_number) +
-                          ": malformed calibration line (expected 'KEY: numbers'): '" +
-                          entry.text + "'");
+                          ": malformed calibration line (expected 'KEY: numbers'): '" + entry.text +
+                          "'");
         }
         entry.key = std::string(detail::trim(content.substr(0, colon)));
         if (!detail::parseDoubles(detail::splitWhitespace(content.substr(colon + 1)), 0,
@@ -47,8 +47,8 @@ std::vector<CalibLine> readCalibLines(const std::filesystem::path& path) {
         }
         for (const double v : entry.values) {
             if (!std::isfinite(v)) {
-                throw IoError(detail::fileLine(path, line_number) + ": calibration '" +
-                              entry.key + "' has a non-finite value");
+                throw IoError(detail::fileLine(path, line_number) + ": calibration '" + entry.key +
+                              "' has a non-finite value");
             }
         }
         result.push_back(std::move(entry));
@@ -70,7 +70,8 @@ void requireCount(const std::filesystem::path& path, const CalibLine& line,
         if (line.values.size() == c) return;
     }
     std::string expected;
-    for (const std::size_t c : counts) expected += (expected.empty() ? "" : " or ") + std::to_string(c);
+    for (const std::size_t c : counts)
+        expected += (expected.empty() ? "" : " or ") + std::to_string(c);
     throw IoError(detail::fileLine(path, line.line_number) + ": calibration '" + line.key +
                   "' needs " + expected + " numbers, got " + std::to_string(line.values.size()));
 }
@@ -79,7 +80,8 @@ void requireCount(const std::filesystem::path& path, const CalibLine& line,
 
 Isometry3d isometryFromRowMajor(const std::vector<double>& values, const std::string& what) {
     if (values.size() != 12 && values.size() != 16) {
-        throw InvalidInput(what + ": a transform needs 12 (3x4) or 16 (4x4) row-major numbers, got " +
+        throw InvalidInput(what +
+                           ": a transform needs 12 (3x4) or 16 (4x4) row-major numbers, got " +
                            std::to_string(values.size()));
     }
     if (values.size() == 16 && (std::abs(values[12]) > 1e-9 || std::abs(values[13]) > 1e-9 ||
@@ -177,7 +179,8 @@ CameraCalib readCameraCalib(const std::filesystem::path& path) {
             }
         } else if (line.key == "T") {
             requireCount(path, line, {12, 16});
-            calib.T_C_L = isometryFromRowMajor(line.values, detail::fileLine(path, line.line_number));
+            calib.T_C_L =
+                isometryFromRowMajor(line.values, detail::fileLine(path, line.line_number));
             have_t = true;
         }
     }

@@ -17,8 +17,8 @@ bool CameraIntrinsics::project(const Vec3d& p_C, Vec2d& pixel) const {
     if (hasDistortion()) {
         // OpenCV radial-tangential ("plumb bob") model, the one cv::projectPoints uses with
         // D = (k1, k2, p1, p2, k3).
-        const double k1 = distortion[0], k2 = distortion[1], p1 = distortion[2],
-                     p2 = distortion[3], k3 = distortion[4];
+        const double k1 = distortion[0], k2 = distortion[1], p1 = distortion[2], p2 = distortion[3],
+                     k3 = distortion[4];
         const double r2 = x * x + y * y;
         const double radial = 1.0 + r2 * (k1 + r2 * (k2 + r2 * k3));
         const double xd = x * radial + 2.0 * p1 * x * y + p2 * (r2 + 2.0 * x * x);

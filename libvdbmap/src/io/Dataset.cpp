@@ -13,8 +13,7 @@
 
 namespace vdbmap {
 
-void filterScan(PointCloud& cloud, double min_range_m, double max_range_m,
-                ScanReadStats* stats) {
+void filterScan(PointCloud& cloud, double min_range_m, double max_range_m, ScanReadStats* stats) {
     const bool has_intensity = cloud.intensity.size() == cloud.points.size();
     const double min2 = min_range_m * min_range_m;
     const double max2 = max_range_m * max_range_m;

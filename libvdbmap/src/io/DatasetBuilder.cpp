@@ -105,15 +105,15 @@ void DatasetBuilder::findImages(Dataset& dataset) {
             continue;
         }
         // The first image gives the size; an unreadable one is an error naming the file.
-        const auto first = std::find_if(images.begin(), images.end(),
-                                        [](const auto& p) { return !p.empty(); });
+        const auto first =
+            std::find_if(images.begin(), images.end(), [](const auto& p) { return !p.empty(); });
         const cv::Size size = readImageSize(*first);
         camera.intrinsics.width = size.width;
         camera.intrinsics.height = size.height;
         if (found < images.size()) {
             logInfo("dataset: camera '" + camera.name + "' lacks images for " +
-                    std::to_string(images.size() - found) + " of " +
-                    std::to_string(images.size()) + " frames");
+                    std::to_string(images.size() - found) + " of " + std::to_string(images.size()) +
+                    " frames");
         }
         for (std::size_t i = 0; i < dataset.frames_.size(); ++i) {
             image_paths[i].push_back(images[i]);

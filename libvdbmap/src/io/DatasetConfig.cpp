@@ -8,20 +8,20 @@ void DatasetConfig::declareOptions(OptionSpec& spec) {
     spec.add<std::string>("format", "Layout: 'kitti' (KITTI odometry) or 'generic' (DATA.md)",
                           format, "kitti");
     spec.add<std::string>("path", "Sequence folder (relative to the YAML file)", path, "");
-    spec.add("min_range_m", "Points closer to the sensor are dropped and counted", min_range_m,
-             1.0, "m");
-    spec.add("max_range_m", "Points further from the sensor are dropped and counted",
-             max_range_m, 200.0, "m");
+    spec.add("min_range_m", "Points closer to the sensor are dropped and counted", min_range_m, 1.0,
+             "m");
+    spec.add("max_range_m", "Points further from the sensor are dropped and counted", max_range_m,
+             200.0, "m");
     spec.add("first_frame", "First frame to use (position in name order)", first_frame, 0);
     spec.add("num_frames", "Number of frames to use; -1 = all", num_frames, -1);
     spec.add("stride", "Use every n-th frame", stride, 1);
     spec.add<std::vector<std::string>>(
-        "cameras", "KITTI: camera folders to use (image_2, image_3); empty = all present",
-        cameras, {});
+        "cameras", "KITTI: camera folders to use (image_2, image_3); empty = all present", cameras,
+        {});
     spec.add<std::string>("scans_dir", "Generic: folder of .bin/.pcd/.ply scans, name order",
                           scans_dir, "scans");
-    spec.add<std::string>("poses_file", "Generic: LiDAR poses T_W_L, one line per scan",
-                          poses_file, "poses.txt");
+    spec.add<std::string>("poses_file", "Generic: LiDAR poses T_W_L, one line per scan", poses_file,
+                          "poses.txt");
     spec.add<std::string>("pose_format", "Generic: 'kitti' (3x4 lines) or 'tum' (t x y z q)",
                           pose_format, "kitti");
     spec.add<std::string>("image_dir", "Generic: the camera's image folder; empty = no camera",
@@ -29,8 +29,7 @@ void DatasetConfig::declareOptions(OptionSpec& spec) {
     spec.add<std::string>("semantic_dir", "Generic: the camera's semantic id images", semantic_dir,
                           "");
     spec.add<std::vector<double>>("intrinsics", "Generic: fx fy cx cy", intrinsics, {}, "px");
-    spec.add<std::vector<double>>("distortion", "Generic: OpenCV k1 k2 p1 p2 [k3]", distortion,
-                                  {});
+    spec.add<std::vector<double>>("distortion", "Generic: OpenCV k1 k2 p1 p2 [k3]", distortion, {});
     spec.add<std::vector<double>>(
         "T_C_L", "Generic: LiDAR -> camera transform, 12 (3x4) or 16 row-major numbers", T_C_L, {},
         "m");

@@ -20,9 +20,10 @@ Camera genericCamera(const DatasetConfig& config, const std::filesystem::path& r
     }
     if (config.intrinsics.size() != 4 || !(config.intrinsics[0] > 0) ||
         !(config.intrinsics[1] > 0)) {
-        throw ConfigError("dataset: option 'intrinsics' must be [fx, fy, cx, cy] with positive "
-                          "focal lengths (or set 'calib_file'), got " +
-                          std::to_string(config.intrinsics.size()) + " values");
+        throw ConfigError(
+            "dataset: option 'intrinsics' must be [fx, fy, cx, cy] with positive "
+            "focal lengths (or set 'calib_file'), got " +
+            std::to_string(config.intrinsics.size()) + " values");
     }
     camera.intrinsics.fx = config.intrinsics[0];
     camera.intrinsics.fy = config.intrinsics[1];
@@ -30,15 +31,18 @@ Camera genericCamera(const DatasetConfig& config, const std::filesystem::path& r
     camera.intrinsics.cy = config.intrinsics[3];
     if (!config.distortion.empty() && config.distortion.size() != 4 &&
         config.distortion.size() != 5) {
-        throw ConfigError("dataset: option 'distortion' must be [k1, k2, p1, p2] or [k1, k2, p1, "
-                          "p2, k3], got " + std::to_string(config.distortion.size()) + " values");
+        throw ConfigError(
+            "dataset: option 'distortion' must be [k1, k2, p1, p2] or [k1, k2, p1, "
+            "p2, k3], got " +
+            std::to_string(config.distortion.size()) + " values");
     }
     for (std::size_t i = 0; i < config.distortion.size(); ++i) {
         camera.intrinsics.distortion[i] = config.distortion[i];
     }
     if (config.T_C_L.empty()) {
-        throw ConfigError("dataset: option 'T_C_L' (LiDAR -> camera, 12 or 16 row-major numbers) "
-                          "is required with 'image_dir' (or set 'calib_file')");
+        throw ConfigError(
+            "dataset: option 'T_C_L' (LiDAR -> camera, 12 or 16 row-major numbers) "
+            "is required with 'image_dir' (or set 'calib_file')");
     }
     try {
         camera.T_C_L = isometryFromRowMajor(config.T_C_L, "dataset: option 'T_C_L'");
@@ -67,8 +71,8 @@ void DatasetBuilder::openGeneric(Dataset& dataset) {
     }
     if (poses.size() < scans.size()) {
         throw IoError("fewer poses than scans: " + poses_path.string() + " has " +
-                      std::to_string(poses.size()) + " poses but " + scans_dir.string() +
-                      " has " + std::to_string(scans.size()) + " scans");
+                      std::to_string(poses.size()) + " poses but " + scans_dir.string() + " has " +
+                      std::to_string(scans.size()) + " scans");
     }
     // Generic poses are the sensor's own: line i is T_W_L of the i-th scan in name order.
     std::vector<FrameInfo> all;

@@ -112,8 +112,7 @@ void DatasetBuilder::openKitti(Dataset& dataset) {
                           e.what());
         }
         dataset.image_dirs_.push_back(root / name);
-        dataset.semantic_dirs_.push_back(has_semantic ? root / semantic
-                                                      : std::filesystem::path());
+        dataset.semantic_dirs_.push_back(has_semantic ? root / semantic : std::filesystem::path());
     }
 }
 

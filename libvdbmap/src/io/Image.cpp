@@ -53,14 +53,12 @@ void writePng(const std::filesystem::path& path, const cv::Mat& image) {
         throw IoError("cannot encode PNG " + path.string() + ": " + e.what());
     }
     if (!ok) throw IoError("cannot encode PNG " + path.string());
-    writeFileAtomically(path, std::string_view(reinterpret_cast<const char*>(bytes.data()),
-                                               bytes.size()));
+    writeFileAtomically(
+        path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
 /// Image size from the file header only where possible (cv::imread decodes; acceptable here:
 /// it is called once per camera).
-cv::Size readImageSize(const std::filesystem::path& path) {
-    return readColorImage(path).size();
-}
+cv::Size readImageSize(const std::filesystem::path& path) { return readColorImage(path).size(); }
 
 }  // namespace vdbmap

@@ -17,16 +17,26 @@ struct DefaultClass {
 
 // DATA.md "Semantic classes (default label set)": Cityscapes trainIds plus lane markings.
 constexpr DefaultClass kDefaultClasses[] = {
-    {0, "road", 128, 64, 128},        {1, "sidewalk", 244, 35, 232},
-    {2, "building", 70, 70, 70},      {3, "wall", 102, 102, 156},
-    {4, "fence", 190, 153, 153},      {5, "pole", 153, 153, 153},
-    {6, "traffic light", 250, 170, 30}, {7, "traffic sign", 220, 220, 0},
-    {8, "vegetation", 107, 142, 35},  {9, "terrain", 152, 251, 152},
-    {10, "sky", 70, 130, 180},        {11, "person", 220, 20, 60},
-    {12, "rider", 255, 0, 0},         {13, "car", 0, 0, 142},
-    {14, "truck", 0, 0, 70},          {15, "bus", 0, 60, 100},
-    {16, "train", 0, 80, 100},        {17, "motorcycle", 0, 0, 230},
-    {18, "bicycle", 119, 11, 32},     {19, "lane marking", 255, 255, 255},
+    {0, "road", 128, 64, 128},
+    {1, "sidewalk", 244, 35, 232},
+    {2, "building", 70, 70, 70},
+    {3, "wall", 102, 102, 156},
+    {4, "fence", 190, 153, 153},
+    {5, "pole", 153, 153, 153},
+    {6, "traffic light", 250, 170, 30},
+    {7, "traffic sign", 220, 220, 0},
+    {8, "vegetation", 107, 142, 35},
+    {9, "terrain", 152, 251, 152},
+    {10, "sky", 70, 130, 180},
+    {11, "person", 220, 20, 60},
+    {12, "rider", 255, 0, 0},
+    {13, "car", 0, 0, 142},
+    {14, "truck", 0, 0, 70},
+    {15, "bus", 0, 60, 100},
+    {16, "train", 0, 80, 100},
+    {17, "motorcycle", 0, 0, 230},
+    {18, "bicycle", 119, 11, 32},
+    {19, "lane marking", 255, 255, 255},
     {20, "other object", 255, 128, 0},
 };
 
@@ -102,9 +112,7 @@ LabelSet LabelSet::fromFile(const std::filesystem::path& path) {
     return set;
 }
 
-int LabelSet::indexOf(std::uint8_t id) const {
-    return id == 255 ? -1 : index_[id];
-}
+int LabelSet::indexOf(std::uint8_t id) const { return id == 255 ? -1 : index_[id]; }
 
 std::array<std::uint8_t, 3> LabelSet::color(std::uint8_t id) const {
     const int i = indexOf(id);

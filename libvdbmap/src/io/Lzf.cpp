@@ -37,7 +37,7 @@ bool lzfDecompress(const std::uint8_t* in, std::size_t in_size, std::uint8_t* ou
 }
 
 std::string lzfCompress(const std::uint8_t* in, std::size_t size) {
-    constexpr std::size_t kMaxOffset = 1 << 13;   // 8192: 13 offset bits
+    constexpr std::size_t kMaxOffset = 1 << 13;  // 8192: 13 offset bits
     constexpr std::size_t kMaxLiteral = 32;
     constexpr std::size_t kMaxRef = (1 << 8) + (1 << 3);  // 264: 7 + 255 + 2
     constexpr std::size_t kHashBits = 16;
@@ -60,8 +60,8 @@ std::string lzfCompress(const std::uint8_t* in, std::size_t size) {
         std::size_t match_len = 0;
         std::size_t match_pos = 0;
         if (ip + 2 < size) {
-            const std::uint32_t key = (std::uint32_t{in[ip]} << 16) |
-                                      (std::uint32_t{in[ip + 1]} << 8) | in[ip + 2];
+            const std::uint32_t key =
+                (std::uint32_t{in[ip]} << 16) | (std::uint32_t{in[ip + 1]} << 8) | in[ip + 2];
             const std::size_t h = (key * 2654435761u) >> (32 - kHashBits);
             const std::size_t candidate = table[h];
             table[h] = ip;

@@ -41,7 +41,8 @@ void writeMeshPly(const std::filesystem::path& path, const TriMesh& mesh,
     // Deleted (not yet garbage-collected) elements are skipped; vertices are renumbered.
     std::vector<std::int32_t> new_index(mesh.n_vertices(), -1);
     std::size_t num_vertices = 0;
-    for (const auto vh : mesh.vertices()) new_index[vh.idx()] = static_cast<std::int32_t>(num_vertices++);
+    for (const auto vh : mesh.vertices())
+        new_index[vh.idx()] = static_cast<std::int32_t>(num_vertices++);
     std::size_t num_faces = 0;
     for (const auto fh : mesh.faces()) {
         (void)fh;
@@ -148,7 +149,8 @@ TriMesh readMeshPly(const std::filesystem::path& path, std::vector<std::uint8_t>
         } else if (element.name == "face") {
             int il = listSlot("vertex_indices");
             if (il < 0) il = listSlot("vertex_index");
-            if (il < 0) throw IoError(path.string() + ": PLY face element has no vertex_indices list");
+            if (il < 0)
+                throw IoError(path.string() + ": PLY face element has no vertex_indices list");
             const int ilabel = slot("label");
             std::vector<TriMesh::VertexHandle> corners;
             for (std::size_t k = 0; k < element.count; ++k) {

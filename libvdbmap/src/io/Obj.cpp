@@ -141,9 +141,9 @@ ObjMesh readObj(const std::filesystem::path& path) {
                 if (!detail::parseDouble(c.substr(0, slash), iv)) throw fail("bad vertex index");
                 if (slash != std::string::npos) {
                     const std::size_t slash2 = c.find('/', slash + 1);
-                    const std::string vt = c.substr(slash + 1, slash2 == std::string::npos
-                                                                   ? std::string::npos
-                                                                   : slash2 - slash - 1);
+                    const std::string vt =
+                        c.substr(slash + 1, slash2 == std::string::npos ? std::string::npos
+                                                                        : slash2 - slash - 1);
                     if (!vt.empty() && !detail::parseDouble(vt, ivt)) throw fail("bad uv index");
                 }
                 const auto absolute = [&](double index, std::size_t count, const char* what) {

@@ -37,17 +37,25 @@ double loadValue(const char* p, char type, std::size_t size) {
     if (type == 'F') return size == 4 ? get(float{}) : get(double{});
     if (type == 'U') {
         switch (size) {
-            case 1: return get(std::uint8_t{});
-            case 2: return get(std::uint16_t{});
-            case 4: return get(std::uint32_t{});
-            default: return get(std::uint64_t{});
+            case 1:
+                return get(std::uint8_t{});
+            case 2:
+                return get(std::uint16_t{});
+            case 4:
+                return get(std::uint32_t{});
+            default:
+                return get(std::uint64_t{});
         }
     }
     switch (size) {
-        case 1: return get(std::int8_t{});
-        case 2: return get(std::int16_t{});
-        case 4: return get(std::int32_t{});
-        default: return get(std::int64_t{});
+        case 1:
+            return get(std::int8_t{});
+        case 2:
+            return get(std::int16_t{});
+        case 4:
+            return get(std::int32_t{});
+        default:
+            return get(std::int64_t{});
     }
 }
 
@@ -86,10 +94,26 @@ PcdHeader parseHeader(const std::string& bytes, const std::filesystem::path& pat
             if (rest.empty()) throw fail("no field names");
             names = rest;
         } else if (key == "SIZE") {
+            for (const std::string& t : rest) {
+                if (t != "1" && t != "2" && t != "4" && t != "8") {
+                    throw fail("invalid SIZE '" + t + "' (expected 1, 2, 4 or 8)");
+                }
+            }
             sizes = rest;
         } else if (key == "TYPE") {
+            for (const std::string& t : rest) {
+                if (t != "F" && t != "U" && t != "I") {
+                    throw fail("invalid TYPE '" + t + "' (expected F, U or I)");
+                }
+            }
             types = rest;
         } else if (key == "COUNT") {
+            for (const std::string& t : rest) {
+                double c = 0;
+                if (!detail::parseDouble(t, c) || c < 1 || c > 1e6 || c != static_cast<int>(c)) {
+                    throw fail("invalid COUNT '" + t + "' (expected a positive integer)");
+                }
+            }
             counts = rest;
         } else if (key == "WIDTH") {
             h.width = count();
@@ -113,30 +137,20 @@ PcdHeader parseHeader(const std::string& bytes, const std::filesystem::path& pat
             if (sizes.size() != names.size() || types.size() != names.size() ||
                 (!counts.empty() && counts.size() != names.size())) {
                 throw fail("FIELDS has " + std::to_string(names.size()) +
-                           " names but SIZE/TYPE/COUNT have " + std::to_string(sizes.size()) +
-                           "/" + std::to_string(types.size()) + "/" +
+                           " names but SIZE/TYPE/COUNT have " + std::to_string(sizes.size()) + "/" +
+                           std::to_string(types.size()) + "/" +
                            std::to_string(counts.empty() ? names.size() : counts.size()));
             }
             for (std::size_t i = 0; i < names.size(); ++i) {
                 PcdField f;
                 f.name = names[i];
-                double s = 0, c = 1;
-                if (!detail::parseDouble(sizes[i], s) ||
-                    !(s == 1 || s == 2 || s == 4 || s == 8)) {
-                    throw fail("field '" + f.name + "' has invalid SIZE '" + sizes[i] + "'");
-                }
-                f.size = static_cast<std::size_t>(s);
-                if (types[i].size() != 1 || std::string("FUI").find(types[i][0]) == std::string::npos ||
-                    (types[i][0] == 'F' && f.size != 4 && f.size != 8)) {
-                    throw fail("field '" + f.name + "' has invalid TYPE '" + types[i] +
-                               "' for SIZE " + sizes[i]);
-                }
+                f.size = static_cast<std::size_t>(std::stoul(sizes[i]));
                 f.type = types[i][0];
-                if (!counts.empty() && (!detail::parseDouble(counts[i], c) || c < 1 ||
-                                        c != static_cast<int>(c) || c > 1e6)) {
-                    throw fail("field '" + f.name + "' has invalid COUNT '" + counts[i] + "'");
+                if (f.type == 'F' && f.size != 4 && f.size != 8) {
+                    throw fail("field '" + f.name + "' is TYPE F with SIZE " + sizes[i] +
+                               " (floats are 4 or 8 bytes)");
                 }
-                f.count = static_cast<std::size_t>(c);
+                f.count = counts.empty() ? 1 : static_cast<std::size_t>(std::stoul(counts[i]));
                 f.offset = h.point_step;
                 h.point_step += f.size * f.count;
                 h.value_count += f.count;
@@ -224,9 +238,9 @@ PointCloud readPcd(const std::filesystem::path& path) {
 
     if (h.data == "binary") {
         if (available < n * h.point_step) {
-            throw IoError(path.string() + ": PCD binary data is truncated: " +
-                          std::to_string(n) + " points x " + std::to_string(h.point_step) +
-                          " bytes need " + std::to_string(n * h.point_step) + ", file has " +
+            throw IoError(path.string() + ": PCD binary data is truncated: " + std::to_string(n) +
+                          " points x " + std::to_string(h.point_step) + " bytes need " +
+                          std::to_string(n * h.point_step) + ", file has " +
                           std::to_string(available));
         }
         const char* data = bytes.data() + h.data_offset;
@@ -234,8 +248,8 @@ PointCloud readPcd(const std::filesystem::path& path) {
             if (f < 0) continue;
             const PcdField& field = h.fields[f];
             for (std::size_t i = 0; i < n; ++i) {
-                store(i, f, loadValue(data + i * h.point_step + field.offset, field.type,
-                                      field.size));
+                store(i, f,
+                      loadValue(data + i * h.point_step + field.offset, field.type, field.size));
             }
         }
         return cloud;
@@ -256,15 +270,15 @@ PointCloud readPcd(const std::filesystem::path& path) {
     }
     if (uncompressed_size != n * h.point_step) {
         throw IoError(path.string() + ": PCD binary_compressed uncompressed size " +
-                      std::to_string(uncompressed_size) + " does not match " +
-                      std::to_string(n) + " points x " + std::to_string(h.point_step) + " bytes");
+                      std::to_string(uncompressed_size) + " does not match " + std::to_string(n) +
+                      " points x " + std::to_string(h.point_step) + " bytes");
     }
     std::vector<std::uint8_t> raw(uncompressed_size);
-    if (uncompressed_size > 0 &&
-        !detail::lzfDecompress(
-            reinterpret_cast<const std::uint8_t*>(bytes.data() + h.data_offset + 8),
-            compressed_size, raw.data(), raw.size())) {
-        throw IoError(path.string() + ": PCD binary_compressed data is corrupt (LZF decode failed)");
+    if (uncompressed_size > 0 && !detail::lzfDecompress(reinterpret_cast<const std::uint8_t*>(
+                                                            bytes.data() + h.data_offset + 8),
+                                                        compressed_size, raw.data(), raw.size())) {
+        throw IoError(path.string() +
+                      ": PCD binary_compressed data is corrupt (LZF decode failed)");
     }
     const char* data = reinterpret_cast<const char*>(raw.data());
     for (const int f : used) {

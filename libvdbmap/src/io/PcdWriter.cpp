@@ -10,8 +10,7 @@
 
 namespace vdbmap {
 
-void writePcd(const std::filesystem::path& path, const PointCloud& cloud,
-              PcdEncoding encoding) {
+void writePcd(const std::filesystem::path& path, const PointCloud& cloud, PcdEncoding encoding) {
     const std::size_t n = cloud.size();
     const bool has_intensity = cloud.intensity.size() == n;
     const auto value = [&](std::size_t i, int field) {
@@ -20,8 +19,8 @@ void writePcd(const std::filesystem::path& path, const PointCloud& cloud,
     std::ostringstream header;
     header << "# .PCD v0.7 - Point Cloud Data file format (written by vdbmap)\n"
            << "VERSION 0.7\nFIELDS x y z intensity\nSIZE 4 4 4 4\nTYPE F F F F\n"
-           << "COUNT 1 1 1 1\nWIDTH " << n << "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS "
-           << n << "\nDATA "
+           << "COUNT 1 1 1 1\nWIDTH " << n << "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << n
+           << "\nDATA "
            << (encoding == PcdEncoding::Ascii    ? "ascii"
                : encoding == PcdEncoding::Binary ? "binary"
                                                  : "binary_compressed")
@@ -52,8 +51,8 @@ void writePcd(const std::filesystem::path& path, const PointCloud& cloud,
         if (encoding == PcdEncoding::Binary) {
             bytes += raw;
         } else {
-            const std::string packed = detail::lzfCompress(
-                reinterpret_cast<const std::uint8_t*>(raw.data()), raw.size());
+            const std::string packed =
+                detail::lzfCompress(reinterpret_cast<const std::uint8_t*>(raw.data()), raw.size());
             const std::uint32_t sizes[2] = {static_cast<std::uint32_t>(packed.size()),
                                             static_cast<std::uint32_t>(raw.size())};
             bytes.append(reinterpret_cast<const char*>(sizes), sizeof(sizes));

@@ -16,14 +16,13 @@ bool parseType(const std::string& name, PlyType& type) {
     static const struct {
         const char* name;
         PlyType type;
-    } kTypes[] = {{"char", PlyType::Int8},       {"int8", PlyType::Int8},
-                  {"uchar", PlyType::UInt8},     {"uint8", PlyType::UInt8},
-                  {"short", PlyType::Int16},     {"int16", PlyType::Int16},
-                  {"ushort", PlyType::UInt16},   {"uint16", PlyType::UInt16},
-                  {"int", PlyType::Int32},       {"int32", PlyType::Int32},
-                  {"uint", PlyType::UInt32},     {"uint32", PlyType::UInt32},
-                  {"float", PlyType::Float32},   {"float32", PlyType::Float32},
-                  {"double", PlyType::Float64},  {"float64", PlyType::Float64}};
+    } kTypes[] = {
+        {"char", PlyType::Int8},      {"int8", PlyType::Int8},       {"uchar", PlyType::UInt8},
+        {"uint8", PlyType::UInt8},    {"short", PlyType::Int16},     {"int16", PlyType::Int16},
+        {"ushort", PlyType::UInt16},  {"uint16", PlyType::UInt16},   {"int", PlyType::Int32},
+        {"int32", PlyType::Int32},    {"uint", PlyType::UInt32},     {"uint32", PlyType::UInt32},
+        {"float", PlyType::Float32},  {"float32", PlyType::Float32}, {"double", PlyType::Float64},
+        {"float64", PlyType::Float64}};
     for (const auto& t : kTypes) {
         if (name == t.name) {
             type = t.type;
@@ -36,13 +35,17 @@ bool parseType(const std::string& name, PlyType& type) {
 std::size_t typeSize(PlyType type) {
     switch (type) {
         case PlyType::Int8:
-        case PlyType::UInt8: return 1;
+        case PlyType::UInt8:
+            return 1;
         case PlyType::Int16:
-        case PlyType::UInt16: return 2;
+        case PlyType::UInt16:
+            return 2;
         case PlyType::Int32:
         case PlyType::UInt32:
-        case PlyType::Float32: return 4;
-        case PlyType::Float64: return 8;
+        case PlyType::Float32:
+            return 4;
+        case PlyType::Float64:
+            return 8;
     }
     return 0;
 }
@@ -171,14 +174,22 @@ double PlyDataReader::value(PlyType type) {
     pos_ += size;
     const bool swap = header_.format == PlyHeader::Format::BinaryBigEndian;
     switch (type) {
-        case PlyType::Int8: return load<std::int8_t>(p, swap);
-        case PlyType::UInt8: return load<std::uint8_t>(p, swap);
-        case PlyType::Int16: return load<std::int16_t>(p, swap);
-        case PlyType::UInt16: return load<std::uint16_t>(p, swap);
-        case PlyType::Int32: return load<std::int32_t>(p, swap);
-        case PlyType::UInt32: return load<std::uint32_t>(p, swap);
-        case PlyType::Float32: return load<float>(p, swap);
-        case PlyType::Float64: return load<double>(p, swap);
+        case PlyType::Int8:
+            return load<std::int8_t>(p, swap);
+        case PlyType::UInt8:
+            return load<std::uint8_t>(p, swap);
+        case PlyType::Int16:
+            return load<std::int16_t>(p, swap);
+        case PlyType::UInt16:
+            return load<std::uint16_t>(p, swap);
+        case PlyType::Int32:
+            return load<std::int32_t>(p, swap);
+        case PlyType::UInt32:
+            return load<std::uint32_t>(p, swap);
+        case PlyType::Float32:
+            return load<float>(p, swap);
+        case PlyType::Float64:
+            return load<double>(p, swap);
     }
     return 0.0;
 }

@@ -61,7 +61,8 @@ std::vector<StampedPose> readTumPoses(const std::filesystem::path& path) {
             !allFinite(v)) {
             throw IoError(detail::fileLine(path, line_number) +
                           ": TUM pose line must hold 8 finite numbers 't tx ty tz qx qy qz qw', "
-                          "got '" + line.substr(0, 160) + "'");
+                          "got '" +
+                          line.substr(0, 160) + "'");
         }
         Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);  // Eigen order: w x y z
         if (q.norm() < 1e-9) {

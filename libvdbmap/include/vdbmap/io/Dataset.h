@@ -28,18 +28,19 @@ struct DatasetConfig {
     int first_frame = 0;
     int num_frames = -1;  ///< -1 = all
     int stride = 1;
-    std::vector<std::string> cameras;  ///< KITTI: camera folders to use; empty = image_2, image_3 if present
+    std::vector<std::string>
+        cameras;  ///< KITTI: camera folders to use; empty = image_2, image_3 if present
     // generic layout
-    std::string scans_dir = "scans";      ///< .bin / .pcd / .ply files, sorted by name
-    std::string poses_file = "poses.txt"; ///< sensor (LiDAR) poses T_W_L
-    std::string pose_format = "kitti";    ///< "kitti" (3x4 lines) or "tum"
-    std::string image_dir;                ///< generic: one camera's image folder ("" = none)
-    std::string semantic_dir;             ///< generic: its semantic id images ("" = none)
-    std::vector<double> intrinsics;       ///< generic: fx fy cx cy
-    std::vector<double> distortion;       ///< generic: k1 k2 p1 p2 [k3]
-    std::vector<double> T_C_L;            ///< generic: 12 (3x4) or 16 (4x4) row-major
-    std::string calib_file;  ///< generic: K/D/T file; replaces intrinsics, distortion, T_C_L
-    std::string labels_file;              ///< label set "id, name, r g b" ("" = DATA.md default)
+    std::string scans_dir = "scans";       ///< .bin / .pcd / .ply files, sorted by name
+    std::string poses_file = "poses.txt";  ///< sensor (LiDAR) poses T_W_L
+    std::string pose_format = "kitti";     ///< "kitti" (3x4 lines) or "tum"
+    std::string image_dir;                 ///< generic: one camera's image folder ("" = none)
+    std::string semantic_dir;              ///< generic: its semantic id images ("" = none)
+    std::vector<double> intrinsics;        ///< generic: fx fy cx cy
+    std::vector<double> distortion;        ///< generic: k1 k2 p1 p2 [k3]
+    std::vector<double> T_C_L;             ///< generic: 12 (3x4) or 16 (4x4) row-major
+    std::string calib_file;   ///< generic: K/D/T file; replaces intrinsics, distortion, T_C_L
+    std::string labels_file;  ///< label set "id, name, r g b" ("" = DATA.md default)
 
     /// Declares every field (key = field name) with its doc, default and unit.
     void declareOptions(OptionSpec& spec);
@@ -60,8 +61,8 @@ void filterScan(PointCloud& cloud, double min_range_m, double max_range_m,
 
 /// One frame of a sequence.
 struct FrameInfo {
-    std::size_t index = 0;      ///< position in the dataset (after first_frame / stride)
-    std::string id;             ///< zero-padded file stem, "000042"
+    std::size_t index = 0;  ///< position in the dataset (after first_frame / stride)
+    std::string id;         ///< zero-padded file stem, "000042"
     Isometry3d T_W_L = Isometry3d::Identity();  ///< LiDAR pose in the world W
     std::filesystem::path scan_path;
     double timestamp_s = 0.0;

@@ -35,7 +35,7 @@ TriMesh readMeshPly(const std::filesystem::path& path,
 struct ObjMaterial {
     std::string name;
     std::array<float, 3> diffuse{0.8f, 0.8f, 0.8f};  ///< Kd, 0..1
-    std::string texture;  ///< map_Kd, relative to the OBJ ("" = none)
+    std::string texture;                             ///< map_Kd, relative to the OBJ ("" = none)
 };
 struct ObjMesh {
     std::vector<Vec3f> positions;

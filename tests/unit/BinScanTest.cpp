@@ -1,0 +1,85 @@
+// SPDX-License-Identifier: Apache-2.0
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <limits>
+
+#include "unit/IoTestUtil.h"
+#include "vdbmap/io/Dataset.h"
+#include "vdbmap/io/PointCloudIO.h"
+
+using namespace vdbmap;
+using Catch::Matchers::Contains;
+
+namespace {
+const std::filesystem::path kScans =
+    std::filesystem::path(VDBMAP_TEST_DATA_DIR) / "kitti_scans_real";
+}
+
+TEST_CASE("Real KITTI scans read with file size / 16 points", "[io][bin]") {
+    for (const char* name : {"000000.bin", "000001.bin"}) {
+        const auto path = kScans / name;
+        const PointCloud cloud = readBin(path);
+        const std::size_t expected = std::filesystem::file_size(path) / 16;
+        CHECK(cloud.size() == expected);
+        REQUIRE(cloud.intensity.size() == expected);
+        // A real Velodyne HDL-64 scan, sensor ~1.73 m above the road: ranges up to ~120 m,
+        // reflectance in [0, 1], and a large share of the points on the ground plane.
+        double max_range = 0;
+        std::size_t ground = 0;
+        for (std::size_t i = 0; i < cloud.size(); ++i) {
+            max_range = std::max(max_range, static_cast<double>(cloud.points[i].norm()));
+            ground += cloud.points[i].z() > -2.2f && cloud.points[i].z() < -1.4f ? 1 : 0;
+            REQUIRE(cloud.intensity[i] >= 0.0f);
+            REQUIRE(cloud.intensity[i] <= 1.0f);
+        }
+        CHECK(max_range > 30.0);
+        CHECK(max_range < 200.0);
+        CHECK(ground > cloud.size() / 3);
+    }
+    CHECK(readBin(kScans / "000000.bin").size() == 124668);
+}
+
+TEST_CASE("Truncated .bin throws IoError naming the file and size", "[io][bin]") {
+    test::TempDir dir;
+    const std::string bytes = test::readBytes(kScans / "000000.bin");
+    test::writeText(dir / "000007.bin", bytes.substr(0, 16 * 10 + 7));
+    const std::string message = test::ioErrorMessage([&] { readBin(dir / "000007.bin"); });
+    CHECK_THAT(message, Contains("000007.bin") && Contains("167"));
+    CHECK_THAT(test::ioErrorMessage([&] { readBin(dir / "missing.bin"); }),
+               Contains("missing.bin"));
+}
+
+TEST_CASE("writeBin / readBin round trip and readPointCloud dispatch", "[io][bin]") {
+    test::TempDir dir;
+    PointCloud cloud;
+    for (int i = 0; i < 50; ++i) {
+        cloud.points.emplace_back(0.1f * i, -2.5f + i, 3.25f * std::sin(static_cast<float>(i)));
+        cloud.intensity.push_back(0.01f * i);
+    }
+    writeBin(dir / "a.bin", cloud);
+    const PointCloud back = readPointCloud(dir / "a.bin");
+    REQUIRE(back.size() == cloud.size());
+    for (std::size_t i = 0; i < cloud.size(); ++i) {
+        CHECK(back.points[i] == cloud.points[i]);
+        CHECK(back.intensity[i] == cloud.intensity[i]);
+    }
+    CHECK_THAT(test::ioErrorMessage([&] { readPointCloud(dir / "a.xyz"); }), Contains("a.xyz"));
+    CHECK(test::countEntries(dir.path()) == 1);  // no temporary left behind
+}
+
+TEST_CASE("filterScan drops non-finite and out-of-range points and counts them", "[io][bin]") {
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const float inf = std::numeric_limits<float>::infinity();
+    PointCloud cloud;
+    cloud.points = {{5, 0, 0}, {nan, 0, 0}, {0.5f, 0, 0}, {0, 0, inf}, {0, 300, 0}, {0, 0, -2}};
+    cloud.intensity = {1, 2, 3, 4, 5, 6};
+    ScanReadStats stats;
+    filterScan(cloud, 1.0, 200.0, &stats);
+    CHECK(stats.points_read == 6);
+    CHECK(stats.dropped_non_finite == 2);
+    CHECK(stats.dropped_range == 2);
+    REQUIRE(cloud.size() == 2);
+    CHECK(cloud.points[0] == Vec3f(5, 0, 0));
+    CHECK(cloud.points[1] == Vec3f(0, 0, -2));
+    CHECK(cloud.intensity == std::vector<float>{1, 6});
+}
