@@ -1,0 +1,30 @@
+# SPDX-License-Identifier: Apache-2.0
+# Foundation tests that need more than their own executable: the test plugins, the built
+# `vdbmap` app, and an install + out-of-tree build of examples/plugin_template.
+set(_vdbmap_test_plugins vdbmap_plugin_testgood vdbmap_plugin_badabi vdbmap_plugin_nosymbol
+    vdbmap_plugin_badreg)
+foreach(test_target PluginLoaderTest CliTest PipelineTest)
+    if(TARGET ${test_target})
+        add_dependencies(${test_target} ${_vdbmap_test_plugins})
+    endif()
+endforeach()
+if(TARGET CliTest AND TARGET vdbmap_app)
+    add_dependencies(CliTest vdbmap_app)
+endif()
+# StageRegistryTest and ConfigFilesTest also load the in-tree plugins when they are built.
+foreach(test_target StageRegistryTest ConfigFilesTest)
+    foreach(plugin texture semantic)
+        if(TARGET ${test_target} AND TARGET vdbmap_plugin_${plugin})
+            add_dependencies(${test_target} vdbmap_plugin_${plugin})
+        endif()
+    endforeach()
+endforeach()
+
+# Installs the build into a scratch prefix, builds examples/plugin_template against the
+# installed package with find_package(vdbmap CONFIG REQUIRED), and runs it via `vdbmap run`.
+if(VDBMAP_BUILD_APPS)
+    add_test(NAME install_and_plugin_template
+        COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/scripts/install_plugin_template.sh
+                ${PROJECT_BINARY_DIR} ${PROJECT_SOURCE_DIR} ${CMAKE_COMMAND})
+    set_tests_properties(install_and_plugin_template PROPERTIES TIMEOUT 300 LABELS "install")
+endif()
