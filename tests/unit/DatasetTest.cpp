@@ -185,3 +185,33 @@ TEST_CASE("Dataset labels: default or labels_file relative to the YAML folder", 
     CHECK(labels.size() == 2);
     CHECK(labels.name(7) == "thing");
 }
+
+TEST_CASE("Generic layout on the real LiDAR + camera frame", "[io][dataset]") {
+    const auto frame = std::filesystem::path(VDBMAP_TEST_DATA_DIR) / "lidar_camera_real" / "1";
+    test::TempDir dir;
+    std::filesystem::create_directories(dir / "scans");
+    std::filesystem::create_directories(dir / "images");
+    std::filesystem::copy_file(frame / "calib.pcd", dir / "scans" / "000000.pcd");
+    std::filesystem::copy_file(frame / "calib.jpg", dir / "images" / "000000.jpg");
+    writeKittiPoses(dir / "poses.txt", {Isometry3d::Identity()});
+    DatasetConfig config;
+    config.format = "generic";
+    config.path = dir.path().string();
+    config.image_dir = "images";
+    config.calib_file = (frame / "calib.txt").string();  // absolute paths are kept
+    const auto dataset = Dataset::open(config);
+    REQUIRE(dataset->numFrames() == 1);
+    REQUIRE(dataset->cameras().size() == 1);
+    CHECK(dataset->cameras()[0].intrinsics.width == 1920);
+    CHECK(dataset->cameras()[0].intrinsics.height == 1200);
+    CHECK(dataset->missingImages() == 0);
+    ScanReadStats stats;
+    const PointCloud scan = dataset->loadScan(0, &stats);
+    CHECK(stats.points_read == 101340);
+    CHECK(scan.size() + stats.dropped_non_finite + stats.dropped_range == 101340);
+    CHECK(scan.size() > 90000);
+    for (const Vec3f& p : scan.points) {
+        REQUIRE(p.allFinite());
+        REQUIRE(p.norm() >= 1.0f);
+    }
+}
