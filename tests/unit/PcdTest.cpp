@@ -178,6 +178,12 @@ TEST_CASE("Corrupt PCD header throws IoError naming the file and the line", "[io
     test::writeText(dir / "noxyz.pcd",
                     "FIELDS x y intensity\nSIZE 4 4 4\nTYPE F F F\nWIDTH 1\nDATA ascii\n1 2 3\n");
     CHECK_THAT(test::ioErrorMessage([&] { readPcd(dir / "noxyz.pcd"); }), Contains("noxyz.pcd"));
+    // An absurd POINTS is rejected before any allocation.
+    test::writeText(dir / "huge.pcd",
+                    "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 4000000000000\n"
+                    "POINTS 4000000000000\nDATA binary\n123456789012");
+    CHECK_THAT(test::ioErrorMessage([&] { readPcd(dir / "huge.pcd"); }),
+               Contains("huge.pcd") && Contains("POINTS 4000000000000"));
     // Corrupt compressed payload: sizes fine, LZF stream garbage.
     std::string compressed =
         "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 1\nDATA binary_compressed\n";

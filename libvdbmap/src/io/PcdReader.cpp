@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 
@@ -191,6 +192,22 @@ PointCloud readPcd(const std::filesystem::path& path) {
     }
     const int fi = findField(h, {"intensity", "i", "reflectance", "remission"});
     const std::size_t n = h.points;
+    const std::size_t available = bytes.size() - h.data_offset;
+    // A corrupt POINTS must not make us allocate gigabytes: bound it by what the data can
+    // hold (ascii: 2 bytes per value at least; binary: point_step bytes; LZF: at most ~90x).
+    const std::size_t min_bytes_per_point = h.data == "ascii"    ? 2 * h.value_count
+                                            : h.data == "binary" ? h.point_step
+                                                                 : 1;
+    const std::size_t max_points =
+        (h.data == "binary_compressed" ? 100 * available / h.point_step
+         : h.data == "ascii"           ? available + 1  // no separator after the last value
+                                       : available) /
+        std::max<std::size_t>(1, min_bytes_per_point);
+    if (n > max_points) {
+        throw IoError(path.string() + ": PCD header says POINTS " + std::to_string(n) +
+                      " but the file has only " + std::to_string(available) + " bytes of " +
+                      h.data + " data (truncated file or corrupt header)");
+    }
     PointCloud cloud;
     cloud.points.resize(n);
     if (fi >= 0) cloud.intensity.resize(n);
@@ -201,7 +218,6 @@ PointCloud readPcd(const std::filesystem::path& path) {
         if (field == fi) cloud.intensity[point] = static_cast<float>(v);
     };
     const int used[4] = {fx, fy, fz, fi};
-    const std::size_t available = bytes.size() - h.data_offset;
 
     if (h.data == "ascii") {
         std::size_t pos = h.data_offset;

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
+#include <algorithm>
 #include <cstring>
 #include <sstream>
 
@@ -41,8 +42,10 @@ PointCloud readPlyPoints(const std::filesystem::path& path) {
         const detail::PlyElement& element = header.elements[e];
         const bool is_vertex = e == vertex_index;
         if (is_vertex) {
-            cloud.points.reserve(element.count);
-            if (ii >= 0) cloud.intensity.reserve(element.count);
+            // Bounded by the file size, so a corrupt count cannot trigger a huge allocation.
+            const std::size_t reserve = std::min(element.count, bytes.size());
+            cloud.points.reserve(reserve);
+            if (ii >= 0) cloud.intensity.reserve(reserve);
         }
         for (std::size_t k = 0; k < element.count; ++k) {
             reader.read(element, scalars, lists);
