@@ -1,0 +1,133 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "SemanticFusion.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <string>
+
+#include "vdbmap/Error.h"
+#include "vdbmap/map/Layers.h"
+
+namespace vdbmap::semantic {
+
+namespace {
+
+std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t x) {
+    while (parent[x] != x) {
+        parent[x] = parent[parent[x]];
+        x = parent[x];
+    }
+    return x;
+}
+
+}  // namespace
+
+MrfProblem fusionProblem(const FaceVotes& votes,
+                         const std::vector<std::array<std::uint32_t, 2>>& adjacency,
+                         const FusionOptions& options) {
+    const std::size_t num_faces = votes.numFaces();
+    const std::size_t n = votes.num_classes;
+    MrfProblem problem;
+    problem.num_nodes = num_faces;
+    problem.num_labels = n;
+    problem.lambda = options.lambda;
+    problem.edges = adjacency;
+    problem.offsets.reserve(num_faces + 1);
+    problem.offsets.push_back(0);
+    const double floor = std::max(options.probability_floor, 1e-12);
+    const auto floor_cost = static_cast<float>(-std::log(floor));
+    // Paper: a face no view saw starts from the uniform distribution 1/N.
+    const auto uniform_cost = static_cast<float>(-std::log(1.0 / static_cast<double>(n)));
+    for (std::size_t f = 0; f < num_faces; ++f) {
+        const std::uint64_t b = votes.offsets[f];
+        const std::uint64_t e = votes.offsets[f + 1];
+        if (b == e) {
+            for (std::uint32_t c = 0; c < n; ++c) {
+                problem.cand_labels.push_back(c);
+                problem.cand_costs.push_back(uniform_cost);
+            }
+        } else {
+            // Paper Eq. (semantic_mrf_energy_function): accumulated areas normalised over the
+            // classes; the cost is its negative log with a floor.
+            double total = 0.0;
+            for (std::uint64_t k = b; k < e; ++k) total += votes.weights[k];
+            std::uint64_t k = b;
+            for (std::uint32_t c = 0; c < n; ++c) {
+                const bool voted = k < e && votes.classes[k] == c;
+                if (voted) {
+                    const double p = total > 0.0 ? votes.weights[k] / total
+                                                 : 1.0 / static_cast<double>(e - b);
+                    problem.cand_labels.push_back(c);
+                    problem.cand_costs.push_back(
+                        static_cast<float>(-std::log(std::max(p, floor))));
+                    ++k;
+                } else if (options.all_classes) {
+                    problem.cand_labels.push_back(c);
+                    problem.cand_costs.push_back(floor_cost);
+                }
+            }
+        }
+        problem.offsets.push_back(problem.cand_labels.size());
+    }
+    return problem;
+}
+
+FusionResult fuseLabels(const FaceVotes& votes,
+                        const std::vector<std::array<std::uint32_t, 2>>& adjacency,
+                        const LabelSet& labels, const FusionOptions& options) {
+    const std::size_t num_faces = votes.numFaces();
+    if (votes.num_classes != labels.size()) {
+        throw InvalidInput("semantic fusion: votes over " + std::to_string(votes.num_classes) +
+                           " classes but the label set has " + std::to_string(labels.size()));
+    }
+    if (labels.size() == 0) throw InvalidInput("semantic fusion: the label set is empty");
+    for (const auto& e : adjacency) {
+        if (e[0] >= num_faces || e[1] >= num_faces) {
+            throw InvalidInput("semantic fusion: adjacency pair (" + std::to_string(e[0]) + ", " +
+                               std::to_string(e[1]) + ") is out of range for " +
+                               std::to_string(num_faces) + " faces");
+        }
+    }
+    FusionResult result;
+    result.face_labels.assign(num_faces, kUnknownLabel);
+    if (num_faces == 0) return result;
+
+    const MrfProblem problem = fusionProblem(votes, adjacency, options);
+    AlphaExpansionOptions solver;
+    solver.max_sweeps = options.max_sweeps;
+    const MrfSolution solution = solveAlphaExpansion(problem, solver);
+    result.initial_energy = solution.initial_energy;
+    result.final_energy = solution.final_energy;
+    result.sweeps = solution.sweeps;
+
+    // Components without any observed face have nothing to take a class from.
+    std::vector<std::uint32_t> parent(num_faces);
+    std::iota(parent.begin(), parent.end(), 0u);
+    for (const auto& e : adjacency) {
+        const std::uint32_t a = findRoot(parent, e[0]);
+        const std::uint32_t b = findRoot(parent, e[1]);
+        if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+    std::vector<char> root_observed(num_faces, 0);
+    for (std::size_t f = 0; f < num_faces; ++f) {
+        if (votes.observed(f)) root_observed[findRoot(parent, static_cast<std::uint32_t>(f))] = 1;
+    }
+    for (std::size_t f = 0; f < num_faces; ++f) {
+        const std::uint32_t root = findRoot(parent, static_cast<std::uint32_t>(f));
+        const bool observed = votes.observed(f);
+        result.observed_faces += observed;
+        if (root == f && !root_observed[root]) ++result.unlabelled_components;
+        // lambda = 0 is naive voting: an unobserved face stays unknown.
+        const bool labelled = observed || (root_observed[root] && options.lambda > 0.0);
+        if (!labelled) {
+            ++result.unlabelled_faces;
+            continue;
+        }
+        result.filled_faces += !observed;
+        result.face_labels[f] = labels.classes()[solution.labels[f]].id;
+    }
+    return result;
+}
+
+}  // namespace vdbmap::semantic
