@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
+# Paper Sec. 6.1 (LGSVL SUV): a vehicle circles an SUV at 10 m, 5 m/s, 10 Hz, VLS-128 LiDAR
+# 2.3 m above the ground, 1 cm range noise; voxel 2.5 cm; truncation fixed 10 cm, fixed 30 cm,
+# adaptive [10, 30] cm. Prints a Markdown table (docs/results/geometry.md).
+# Usage: scripts/experiments/suv.sh   (env: BUILD=build dir, OUT=output root, FRAMES=126)
+set -euo pipefail
+ROOT=$(cd "$(dirname "$0")/../.." && pwd)
+BIN=${BUILD:-$ROOT/build}/bin
+OUT=${OUT:-$ROOT/out}
+FRAMES=${FRAMES:-126}
+SEQ=$OUT/sim/suv
+if [ ! -f "$SEQ/gt/mesh.ply" ]; then
+    "$BIN/vdbmap-sim" suv -o "$SEQ" --frames "$FRAMES" --seed 1 --no-images --quiet
+fi
+ROWS=()
+for cfg in suv_fixed_10cm suv_fixed_30cm suv_adaptive; do
+    start=$(date +%s.%N)
+    "$BIN/vdbmap" run "$ROOT/config/$cfg.yaml" -o "$OUT/$cfg" --set dataset.path="$SEQ" --quiet
+    seconds=$(echo "$(date +%s.%N) - $start" | bc)
+    "$BIN/vdbmap" eval --gt "$SEQ/gt" --run "$OUT/$cfg" --tau 0.02,0.05,0.1 --cutoff 0.3 \
+        --sample-spacing 0.01 --json "$OUT/$cfg/eval.json" --error-ply "$OUT/$cfg/error.ply" --quiet
+    ROWS+=("$cfg=$OUT/$cfg/eval.json:$(printf %.1f "$seconds")")
+done
+python3 "$ROOT/scripts/experiments/table.py" "${ROWS[@]}"
