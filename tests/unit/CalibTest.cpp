@@ -42,7 +42,7 @@ TEST_CASE("KITTI calib: P0..P3 and Tr; camera k from P_k = K [I | t]", "[io][cal
     CHECK(cam2.intrinsics.cy == Approx(185.2157));
     CHECK_FALSE(cam2.intrinsics.hasDistortion());
     // Oracle: P2 applied to X_C0 = Tr X_L must equal K * (T_C2_L X_L), for any X_L.
-    for (const Vec3d X_L : {Vec3d(10, 2, -1), Vec3d(35, -8, 0.5), Vec3d(6, 0.1, 1.2)}) {
+    for (const Vec3d& X_L : {Vec3d(10, 2, -1), Vec3d(35, -8, 0.5), Vec3d(6, 0.1, 1.2)}) {
         const Vec3d X_C0 = calib.Tr * X_L;
         const Vec3d uvw = *calib.P[2] * X_C0.homogeneous();
         Vec2d pixel;

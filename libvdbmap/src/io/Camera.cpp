@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "vdbmap/io/Camera.h"
 
+#include <limits>
+
 namespace vdbmap {
 
 bool CameraIntrinsics::hasDistortion() const {
@@ -11,7 +13,10 @@ bool CameraIntrinsics::hasDistortion() const {
 }
 
 bool CameraIntrinsics::project(const Vec3d& p_C, Vec2d& pixel) const {
-    if (!(p_C.z() > 0.0)) return false;
+    if (!(p_C.z() > 0.0)) {
+        pixel = Vec2d::Constant(std::numeric_limits<double>::quiet_NaN());
+        return false;
+    }
     double x = p_C.x() / p_C.z();
     double y = p_C.y() / p_C.z();
     if (hasDistortion()) {

@@ -11,14 +11,16 @@ namespace vdbmap {
 /// Pinhole intrinsics with optional radial-tangential (OpenCV "plumb bob") distortion.
 /// Pixel convention (DATA.md): (0,0) is the centre of the top-left pixel.
 struct CameraIntrinsics {
-    int width = 0;   ///< px
-    int height = 0;  ///< px
-    double fx = 0, fy = 0, cx = 0, cy = 0;
+    int width = 0;                          ///< px
+    int height = 0;                         ///< px
+    double fx = 0, fy = 0, cx = 0, cy = 0;  ///< focal lengths and principal point, px
     /// k1 k2 p1 p2 k3; all zero = no distortion (rectified KITTI).
     std::array<double, 5> distortion{0, 0, 0, 0, 0};
 
+    /// True if any distortion coefficient is non-zero.
     bool hasDistortion() const;
-    /// Projects a point in the camera frame C (z forward). Returns false if z <= 0.
+    /// Projects a point in the camera frame C (z forward) to a pixel (OpenCV model). Returns
+    /// false, with `pixel` set to NaN, if z <= 0 (or z is NaN). Does not check inside().
     bool project(const Vec3d& p_C, Vec2d& pixel) const;
     /// True if the pixel lies inside [-0.5, width-0.5) x [-0.5, height-0.5).
     bool inside(const Vec2d& pixel) const {
