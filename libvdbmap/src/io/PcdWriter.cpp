@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
+#include <charconv>
 #include <cstdint>
-#include <cstdio>
 #include <cstring>
 #include <sstream>
 
@@ -28,12 +28,15 @@ void writePcd(const std::filesystem::path& path, const PointCloud& cloud, PcdEnc
     std::string bytes = header.str();
     if (encoding == PcdEncoding::Ascii) {
         char buffer[64];
+        bytes.reserve(bytes.size() + n * 48);
         for (std::size_t i = 0; i < n; ++i) {
             for (int f = 0; f < 4; ++f) {
-                // 9 significant digits round-trip every float exactly.
-                std::snprintf(buffer, sizeof(buffer), f < 3 ? "%.9g " : "%.9g\n",
-                              static_cast<double>(value(i, f)));
-                bytes += buffer;
+                // Shortest text that reads back as the same float (std::to_chars guarantee);
+                // NaN is written "nan", which readPcd (strtod) accepts.
+                const std::to_chars_result r =
+                    std::to_chars(buffer, buffer + sizeof(buffer), value(i, f));
+                bytes.append(buffer, r.ptr);
+                bytes += f < 3 ? ' ' : '\n';
             }
         }
     } else {

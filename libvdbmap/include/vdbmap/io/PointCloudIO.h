@@ -38,7 +38,7 @@ enum class PcdEncoding { Ascii, Binary, BinaryCompressed };
 /// Writes a KITTI .bin (intensity 0 where the cloud has none), atomically. Throws IoError.
 void writeBin(const std::filesystem::path& path, const PointCloud& cloud);
 /// Writes a PCD v0.7 with fields x y z intensity (F4), atomically. ascii values are written
-/// with 9 significant digits, so every encoding reads back bit-identical. Throws IoError.
+/// in shortest round-trip form, so every encoding reads back bit-identical. Throws IoError.
 void writePcd(const std::filesystem::path& path, const PointCloud& cloud,
               PcdEncoding encoding = PcdEncoding::Binary);
 /// Writes a binary little-endian PLY point cloud (vertex x y z intensity as float),
