@@ -57,9 +57,6 @@ std::vector<std::string> datasetLayers(const Dataset& dataset) {
 void Pipeline::run(const fs::path& output_dir, Report& report, bool quiet) {
     Impl& p = *impl_;
     Timer total;
-    reportVersions(report);
-    report.setJson({"config"}, resolvedConfigJson());
-    report.set({"output_dir"}, fs::absolute(output_dir).string());
     report.set({"status", "ok"}, false);
     report.set({"status", "state"}, "running");
 
@@ -71,6 +68,9 @@ void Pipeline::run(const fs::path& output_dir, Report& report, bool quiet) {
 
     std::string current = "setup";
     try {
+        reportVersions(report);
+        report.setJson({"config"}, resolvedConfigJson());
+        report.set({"output_dir"}, fs::absolute(output_dir).string());
         std::error_code ec;
         fs::create_directories(output_dir, ec);
         if (ec || !fs::is_directory(output_dir)) {

@@ -29,6 +29,7 @@ struct Report::Impl {
         nlohmann::json* node = &root;
         for (std::size_t i = 0; i < path.size(); ++i) {
             if (path[i].empty()) throw InvalidInput("Report: empty key in '" + joinPath(path) + "'");
+            if (node->is_null()) *node = nlohmann::json::object();
             if (!node->is_object()) {
                 throw InvalidInput("Report: '" + joinPath({path.begin(), path.begin() + i}) +
                                    "' is a value, cannot set '" + joinPath(path) + "'");
