@@ -39,12 +39,47 @@ MrfProblem fusionProblem(const FaceVotes& votes,
     const auto floor_cost = static_cast<float>(-std::log(floor));
     // Paper: a face no view saw starts from the uniform distribution 1/N.
     const auto uniform_cost = static_cast<float>(-std::log(1.0 / static_cast<double>(n)));
+
+    // Regions of unobserved faces and the classes voted on their border. Inside a region
+    // without data the Potts optimum only uses border classes (relabelling a non-border class
+    // to a neighbouring one never lengthens the cut), so those are the only candidates needed:
+    // this keeps every expansion move small.
+    std::vector<std::uint32_t> region(num_faces);
+    std::iota(region.begin(), region.end(), 0u);
+    for (const auto& e : adjacency) {
+        if (votes.observed(e[0]) || votes.observed(e[1])) continue;
+        const std::uint32_t a = findRoot(region, e[0]);
+        const std::uint32_t b = findRoot(region, e[1]);
+        if (a != b) region[std::max(a, b)] = std::min(a, b);
+    }
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> border;  // (region root, class)
+    for (const auto& e : adjacency) {
+        const bool o0 = votes.observed(e[0]), o1 = votes.observed(e[1]);
+        if (o0 == o1) continue;
+        const std::uint32_t u = o0 ? e[1] : e[0];
+        const std::uint32_t o = o0 ? e[0] : e[1];
+        const std::uint32_t root = findRoot(region, u);
+        for (std::uint64_t k = votes.offsets[o]; k < votes.offsets[o + 1]; ++k) {
+            border.emplace_back(root, votes.classes[k]);
+        }
+    }
+    std::sort(border.begin(), border.end());
+    border.erase(std::unique(border.begin(), border.end()), border.end());
+
     for (std::size_t f = 0; f < num_faces; ++f) {
         const std::uint64_t b = votes.offsets[f];
         const std::uint64_t e = votes.offsets[f + 1];
         if (b == e) {
-            for (std::uint32_t c = 0; c < n; ++c) {
-                problem.cand_labels.push_back(c);
+            const std::uint32_t root = findRoot(region, static_cast<std::uint32_t>(f));
+            auto it = std::lower_bound(border.begin(), border.end(),
+                                       std::make_pair(root, std::uint32_t(0)));
+            if (it == border.end() || it->first != root) {
+                // No observed face anywhere around: fuseLabels writes 255, any class will do.
+                problem.cand_labels.push_back(0);
+                problem.cand_costs.push_back(uniform_cost);
+            }
+            for (; it != border.end() && it->first == root; ++it) {
+                problem.cand_labels.push_back(it->second);
                 problem.cand_costs.push_back(uniform_cost);
             }
         } else {

@@ -23,8 +23,11 @@ struct FusionOptions {
 
 /// The MRF of paper Eq. (semantic_mrf_energy_function): one node per face; an observed face
 /// has the candidates it was voted for with cost -log(max(p_c, floor)), p_c = the normalised
-/// accumulated votes; a face without votes has every class at the uniform -log(1/N), so the
-/// Potts term over `adjacency` (face pairs, faceAdjacency) decides. Labels are class indices.
+/// accumulated votes; a face without votes has the uniform cost -log(1/N) for every class, so
+/// the Potts term over `adjacency` (face pairs, faceAdjacency) decides. Only the classes voted
+/// on the border of its region of unobserved faces are listed for it: the Potts optimum
+/// inside a region without data uses no other class, and this keeps the moves small.
+/// Labels are class indices.
 MrfProblem fusionProblem(const FaceVotes& votes,
                          const std::vector<std::array<std::uint32_t, 2>>& adjacency,
                          const FusionOptions& options);
