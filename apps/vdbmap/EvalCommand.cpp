@@ -34,6 +34,7 @@ struct EvalArgs {
     std::string tau = "0.05,0.1,0.2";
     double cutoff_m = 0.5;
     double sample_spacing_m = 0.02;
+    std::vector<int> classes;
     bool quiet = false;
 };
 
@@ -118,6 +119,16 @@ void runEval(const EvalArgs& args, int& exit_code) {
         go.tau_m = tau;
         go.observed_cutoff_m = args.cutoff_m;
         go.sample_spacing_m = args.sample_spacing_m;
+        if (!args.classes.empty()) {
+            if (gt_labels.empty()) {
+                throw vdbmap::IoError("vdbmap eval: --classes needs face labels in " +
+                                      gt_mesh_path.string());
+            }
+            for (std::uint32_t f : gt_face_index) {
+                go.gt_face_mask.push_back(std::find(args.classes.begin(), args.classes.end(),
+                                                    gt_labels[f]) != args.classes.end());
+            }
+        }
         std::vector<float> vertex_error;
         const vdbmap::GeometryMetrics g = vdbmap::evaluateGeometry(
             pv, pt, gt_rc, observed, go, args.error_ply.empty() ? nullptr : &vertex_error);
@@ -131,6 +142,8 @@ void runEval(const EvalArgs& args, int& exit_code) {
         j["pred_samples_scored"] = g.pred_samples_used;
         j["observed_cutoff_m"] = args.cutoff_m;
         j["observed_points"] = observed.size();
+        j["observed_points_scored"] = g.gt_points_used;
+        j["classes"] = args.classes;
         for (const auto& f : g.fscores) {
             j["fscore"].push_back({{"tau_m", f.tau_m},
                                    {"precision", f.precision},
@@ -138,7 +151,9 @@ void runEval(const EvalArgs& args, int& exit_code) {
                                    {"fscore", f.fscore}});
         }
         report["geometry"] = j;
-        table << std::setprecision(4) << "geometry (" << g.pred_faces << " faces)\n"
+        table << std::setprecision(4) << "geometry (" << g.pred_faces << " faces"
+              << (args.classes.empty() ? "" : ", scored on the selected classes only")
+              << ")\n"
               << "  accuracy     mean " << g.accuracy.mean << "  median " << g.accuracy.median
               << "  p90 " << g.accuracy.p90 << "  max " << g.accuracy.max << " m\n"
               << "  completeness mean " << g.completeness.mean << "  median "
@@ -276,6 +291,10 @@ void addEvalCommand(CLI::App& app, int& exit_code) {
     cmd->add_option("--sample-spacing", args->sample_spacing_m,
                     "Sample spacing (m) on the run's mesh for accuracy")
         ->capture_default_str();
+    cmd->add_option("--classes", args->classes,
+                    "Score geometry only where the nearest ground-truth face has one of these "
+                    "class ids (e.g. 13 = the SUV without its ground)")
+        ->delimiter(',');
     cmd->add_flag("-q,--quiet", args->quiet, "Print nothing (use --json)");
     cmd->callback([args, &exit_code] { runEval(*args, exit_code); });
 }

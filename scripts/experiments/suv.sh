@@ -14,12 +14,21 @@ if [ ! -f "$SEQ/gt/mesh.ply" ]; then
     "$BIN/vdbmap-sim" suv -o "$SEQ" --frames "$FRAMES" --seed 1 --no-images --quiet
 fi
 ROWS=()
+SUV_ROWS=()
 for cfg in suv_fixed_10cm suv_fixed_30cm suv_adaptive; do
     start=$(date +%s.%N)
     "$BIN/vdbmap" run "$ROOT/config/$cfg.yaml" -o "$OUT/$cfg" --set dataset.path="$SEQ" --quiet
     seconds=$(echo "$(date +%s.%N) - $start" | bc)
     "$BIN/vdbmap" eval --gt "$SEQ/gt" --run "$OUT/$cfg" --tau 0.02,0.05,0.1 --cutoff 0.3 \
         --sample-spacing 0.01 --json "$OUT/$cfg/eval.json" --error-ply "$OUT/$cfg/error.ply" --quiet
+    # The SUV alone (class 13): samples and observed points nearest to an SUV face.
+    "$BIN/vdbmap" eval --gt "$SEQ/gt" --run "$OUT/$cfg" --tau 0.02,0.05,0.1 --cutoff 0.3 \
+        --sample-spacing 0.01 --classes 13 --json "$OUT/$cfg/eval_suv.json" --quiet
     ROWS+=("$cfg=$OUT/$cfg/eval.json:$(printf %.1f "$seconds")")
+    SUV_ROWS+=("$cfg=$OUT/$cfg/eval_suv.json:$(printf %.1f "$seconds")")
 done
+echo "Whole scene (SUV + ground plane):"
 python3 "$ROOT/scripts/experiments/table.py" "${ROWS[@]}"
+echo
+echo "SUV only (--classes 13):"
+python3 "$ROOT/scripts/experiments/table.py" "${SUV_ROWS[@]}"

@@ -117,3 +117,33 @@ TEST_CASE("Unobserved prediction is not scored; missing prediction hurts complet
     bad.tau_m = {};
     CHECK_THROWS_AS(evaluateGeometry(hv, ht, gt, observed, bad), InvalidInput);
 }
+
+TEST_CASE("A ground-truth face mask scores only the selected surface", "[eval]") {
+    // Ground truth: plane A = [0, 10]^2 (selected) and plane B = [20, 30] x [0, 10] (not).
+    std::vector<Vec3f> gv, bv, pv;
+    std::vector<std::array<std::uint32_t, 3>> gt_tris, bt;
+    gridPlane(10, 10.0f, 0.0f, gv, gt_tris);
+    gridPlane(10, 10.0f, 0.0f, bv, bt);
+    const auto nA = static_cast<std::uint32_t>(gv.size());
+    const std::size_t tA = gt_tris.size();
+    for (auto& p : bv) gv.push_back(p + Vec3f(20, 0, 0));
+    for (auto t : bt) gt_tris.push_back({t[0] + nA, t[1] + nA, t[2] + nA});
+    const Raycaster gt(gv, gt_tris);
+    // Prediction: A lifted by 3 cm, B lifted by 10 cm.
+    std::vector<std::array<std::uint32_t, 3>> pt = gt_tris;
+    pv = gv;
+    for (std::size_t i = 0; i < pv.size(); ++i) pv[i].z() += i < nA ? 0.03f : 0.10f;
+    std::vector<Vec3f> observed = observedGrid(0.0f, 10.0f, 0.5f);
+    for (const auto& p : observedGrid(0.0f, 10.0f, 0.5f)) observed.push_back(p + Vec3f(20, 0, 0));
+    GeometryEvalOptions o;
+    const GeometryMetrics all = evaluateGeometry(pv, pt, gt, observed, o);
+    CHECK(all.accuracy.max == Approx(0.10).epsilon(1e-3));
+    o.gt_face_mask.assign(gt_tris.size(), 0);
+    std::fill(o.gt_face_mask.begin(), o.gt_face_mask.begin() + static_cast<std::ptrdiff_t>(tA), 1);
+    const GeometryMetrics a = evaluateGeometry(pv, pt, gt, observed, o);
+    CHECK(a.accuracy.max == Approx(0.03).epsilon(1e-3));
+    CHECK(a.completeness.mean == Approx(0.03).epsilon(1e-3));
+    CHECK(a.gt_points_used == observed.size() / 2);
+    o.gt_face_mask.resize(3);
+    CHECK_THROWS_AS(evaluateGeometry(pv, pt, gt, observed, o), InvalidInput);
+}

@@ -159,18 +159,53 @@ GeometryMetrics evaluateGeometry(const std::vector<Vec3f>& pred_vertices,
                               }
                           });
     }
-    std::vector<Vec3f> used;
-    used.reserve(samples.size());
-    for (std::size_t i = 0; i < samples.size(); ++i) {
-        if (keep[i]) used.push_back(samples[i]);
+    const std::vector<char>& mask = options.gt_face_mask;
+    if (!mask.empty() && mask.size() != gt.numTriangles()) {
+        throw InvalidInput("evaluateGeometry: face mask has " + std::to_string(mask.size()) +
+                           " entries for " + std::to_string(gt.numTriangles()) +
+                           " ground-truth triangles");
     }
-    m.pred_samples_used = used.size();
-    const std::vector<float> acc = distancesTo(gt, used);
+    // Distances to the ground truth, and whether the nearest ground-truth face is masked in.
+    auto toGt = [&](const std::vector<Vec3f>& points, const std::vector<char>& pre_keep,
+                    std::vector<float>& d) {
+        std::vector<char> in(points.size(), 0);
+        d.assign(points.size(), kDistanceCap);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 512),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                                  if (!pre_keep.empty() && !pre_keep[i]) continue;
+                                  if (auto cp = gt.closestPoint(points[i], kDistanceCap)) {
+                                      d[i] = cp->distance;
+                                      in[i] = mask.empty() || mask[cp->face];
+                                  }
+                              }
+                          });
+        return in;
+    };
+    std::vector<float> sample_d;
+    const std::vector<char> sample_in = toGt(samples, keep, sample_d);
+    std::vector<float> acc;
+    acc.reserve(samples.size());
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+        if (keep[i] && sample_in[i]) acc.push_back(sample_d[i]);
+    }
+    m.pred_samples_used = acc.size();
 
-    std::vector<float> comp(gt_observed_points.size(), kDistanceCap);
+    std::vector<Vec3f> gt_points;
+    if (mask.empty()) {
+        gt_points = gt_observed_points;
+    } else {
+        std::vector<float> unused;
+        const std::vector<char> point_in = toGt(gt_observed_points, {}, unused);
+        for (std::size_t i = 0; i < gt_observed_points.size(); ++i) {
+            if (point_in[i]) gt_points.push_back(gt_observed_points[i]);
+        }
+    }
+    m.gt_points_used = gt_points.size();
+    std::vector<float> comp(gt_points.size(), kDistanceCap);
     if (!pred_triangles.empty()) {
         const Raycaster pred(pred_vertices, pred_triangles);
-        comp = distancesTo(pred, gt_observed_points);
+        comp = distancesTo(pred, gt_points);
     }
     for (double tau : options.tau_m) {
         FScore f;

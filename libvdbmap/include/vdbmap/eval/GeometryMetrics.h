@@ -40,6 +40,10 @@ struct GeometryEvalOptions {
     /// hole-filling of a large truncation behind an object, or outside the observed area).
     double observed_cutoff_m = 0.5;
     std::uint64_t seed = 1;
+    /// Optional per ground-truth triangle flag (empty = all): only prediction samples and
+    /// observed points whose nearest ground-truth triangle is flagged are scored, e.g. the
+    /// faces of one class (the SUV without its ground plane).
+    std::vector<char> gt_face_mask;
 };
 
 /// Precision, recall and F-score at one threshold.
@@ -55,7 +59,8 @@ struct GeometryMetrics {
     double chamfer_l1 = 0;       ///< (accuracy.mean + completeness.mean) / 2
     std::vector<FScore> fscores;
     std::size_t pred_samples = 0;       ///< samples drawn on the prediction
-    std::size_t pred_samples_used = 0;  ///< of those, near observed ground truth
+    std::size_t pred_samples_used = 0;  ///< of those, near observed ground truth (and masked in)
+    std::size_t gt_points_used = 0;     ///< observed points scored for completeness
     std::size_t pred_faces = 0;
 };
 
