@@ -95,11 +95,13 @@ int main(int argc, char** argv) {
     long faces_target = 1000000;
     int num_views = 200;
     int threads = 2;
+    int max_candidates = 10;
     std::string json_path;
     app.add_option("--faces", faces_target, "Approximate number of faces");
     app.add_option("--views", num_views, "Number of views (frames, one camera)");
     app.add_option("--threads", threads, "Worker threads");
     app.add_option("--json", json_path, "Write the results as JSON");
+    app.add_option("--max-candidates", max_candidates, "Views per face for the MRF (0 = all)");
     CLI11_PARSE(app, argc, argv);
     try {
         tbb::global_control control(tbb::global_control::max_allowed_parallelism, threads);
@@ -160,6 +162,7 @@ int main(int argc, char** argv) {
         vdbmap::texture::TextureOptions options;
         options.vignetting = true;
         options.vignetting_params = {{0.3, 0.1, 0.05}};
+        options.max_candidates = static_cast<std::size_t>(max_candidates);
         timer.reset();
         const auto result =
             vdbmap::texture::textureMesh(arrays, views, vis, adjacency, load, options);
@@ -169,6 +172,7 @@ int main(int argc, char** argv) {
         out["faces"] = arrays.faces.size();
         out["views"] = num_views;
         out["threads"] = threads;
+        out["max_candidates"] = max_candidates;
         out["observations"] = vis.obs.size();
         out["untextured"] = result.stats.faces_untextured;
         out["patches"] = result.stats.patches;

@@ -24,6 +24,9 @@ void TextureMrfStage::declareOptions(OptionSpec& spec) {
              mrf_, true);
     spec.add("lambda", "Weight of the Potts smoothness against the per-face data cost in [0, 1]",
              lambda_, 1.0);
+    spec.add("max_candidates",
+             "Views per face the MRF may choose from (highest E_Q first); 0 = all", max_candidates_,
+             10);
     spec.add("vignetting", "Correct vignetting I' = g(r) I before anything else", vignetting_,
              false);
     spec.add("vignetting_params",
@@ -58,6 +61,9 @@ void TextureMrfStage::declareOptions(OptionSpec& spec) {
 
 void TextureMrfStage::initialize() {
     if (lambda_ < 0) failConfig("option 'lambda' must be >= 0, got " + std::to_string(lambda_));
+    if (max_candidates_ < 0) {
+        failConfig("option 'max_candidates' must be >= 0, got " + std::to_string(max_candidates_));
+    }
     if (vignetting_params_.size() % 3 != 0) {
         failConfig("option 'vignetting_params' needs 3 values per camera, got " +
                    std::to_string(vignetting_params_.size()));
@@ -110,6 +116,7 @@ void TextureMrfStage::run(Context& ctx) {
     TextureOptions options;
     options.use_mrf = mrf_;
     options.lambda = lambda_;
+    options.max_candidates = static_cast<std::size_t>(max_candidates_);
     options.vignetting = vignetting_;
     options.estimate_vignetting = estimate_vignetting_;
     const std::size_t num_cameras = dataset.cameras().size();

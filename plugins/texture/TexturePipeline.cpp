@@ -205,7 +205,8 @@ TextureResult textureMesh(const MeshArrays& mesh, const std::vector<View>& views
 
     // View selection (paper Sec. 5.1).
     const MrfProblem problem =
-        buildViewSelectionProblem(vis, obs_stats, keep, adjacency, views.size(), options.lambda);
+        buildViewSelectionProblem(vis, obs_stats, keep, adjacency, views.size(), options.lambda,
+                                  options.max_candidates);
     const MrfSolution solution = selectViews(problem, options.use_mrf);
     stats.energy_initial = solution.initial_energy;
     stats.energy_final = solution.final_energy;

@@ -21,6 +21,7 @@ namespace vdbmap::texture {
 struct TextureOptions {
     bool use_mrf = true;         ///< view selection MRF; false = per-face best view
     double lambda = 1.0;         ///< Potts weight of the MRF
+    std::size_t max_candidates = 0;  ///< views per face kept for the MRF (highest E_Q), 0 = all
     bool vignetting = false;     ///< correct vignetting with `vignetting_params`
     bool estimate_vignetting = false;  ///< estimate the parameters instead (needs vignetting)
     std::vector<VignettingParams> vignetting_params;  ///< per camera index (View::camera)

@@ -114,3 +114,25 @@ TEST_CASE("rejected observations are no candidates; unseen faces get no label", 
     CHECK(solution.labels[0] == kNoLabel);
     CHECK(solution.labels[1] != kNoLabel);
 }
+
+TEST_CASE("max_candidates keeps the views of highest quality", "[texture][mrf]") {
+    Scene scene(13);
+    const std::vector<char> keep(scene.vis.obs.size(), 1);
+    const auto problem =
+        buildViewSelectionProblem(scene.vis, scene.stats, keep, scene.adjacency, 4, 0.0, 2);
+    const auto all =
+        buildViewSelectionProblem(scene.vis, scene.stats, keep, scene.adjacency, 4, 0.0, 0);
+    for (std::size_t f = 0; f < problem.num_nodes; ++f) {
+        const auto n = problem.offsets[f + 1] - problem.offsets[f];
+        const auto n_all = all.offsets[f + 1] - all.offsets[f];
+        CHECK(n == std::min<std::uint64_t>(n_all, 2));
+        // The kept candidates are the cheapest of all (cost = 1 - E_Q / max).
+        std::vector<float> costs(all.cand_costs.begin() + all.offsets[f],
+                                 all.cand_costs.begin() + all.offsets[f + 1]);
+        std::sort(costs.begin(), costs.end());
+        for (auto k = problem.offsets[f]; k < problem.offsets[f + 1]; ++k) {
+            CHECK(problem.cand_costs[k] <= costs[std::min<std::size_t>(1, costs.size() - 1)]);
+        }
+    }
+    CHECK(selectViews(problem, true).labels == selectViews(all, false).labels);
+}
