@@ -175,6 +175,7 @@ SimSummary writeSimSequence(const SimOptions& options, const std::filesystem::pa
     const std::vector<std::uint8_t>& labels = scene.face_labels;
 
     std::vector<double> exposure(n_frames, 1.0);
+    std::vector<std::size_t> occluder_frames;
     ImagingOptions imaging;
     imaging.vignetting_abc = options.vignetting_abc;
     imaging.label_noise_px = options.label_noise_px;
@@ -205,6 +206,7 @@ SimSummary writeSimSequence(const SimOptions& options, const std::filesystem::pa
                                             options.seed);
                     occluder_rc = std::make_unique<Raycaster>(occluder.mesh.positions,
                                                               occluder.triangleIndices());
+                    occluder_frames.push_back(f);
                 }
                 for (int c = 0; c < options.cameras; ++c) {
                     const int k = 2 + c;
@@ -298,6 +300,7 @@ SimSummary writeSimSequence(const SimOptions& options, const std::filesystem::pa
     info["cameras"] = options.cameras;
     info["occluders"] = options.occluders;
     info["label_noise_px"] = options.label_noise_px;
+    info["occluder_frames"] = occluder_frames;  // frames whose images show a pedestrian box
     info["vignetting_abc"] = options.vignetting_abc;
     info["lidar_points"] = summary.points;
     info["gt_faces"] = summary.gt_faces;

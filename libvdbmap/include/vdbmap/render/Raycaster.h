@@ -41,6 +41,8 @@ public:
     bool occluded(const Vec3f& origin, const Vec3f& direction_unit, float t_min,
                   float t_max) const;
     /// Batched version of intersect, parallel over rays (TBB). hits[i] is empty on a miss.
+    /// `origins` has one entry per direction, or a single entry shared by all rays. Throws
+    /// InvalidInput on other sizes.
     void intersect(const std::vector<Vec3f>& origins, const std::vector<Vec3f>& directions_unit,
                    float t_max, std::vector<std::optional<Hit>>& hits) const;
 
