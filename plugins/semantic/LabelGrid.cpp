@@ -20,7 +20,21 @@ openvdb::FloatGrid::Ptr labelGrid(const TriMesh& mesh, const std::vector<std::ui
     if (!(band_vox >= 1.0f)) {
         throw InvalidInput("labelGrid: band_vox must be >= 1, got " + std::to_string(band_vox));
     }
-    auto grid = openvdb::FloatGrid::create(static_cast<float>(kUnknownLabel));
+    // The grid outlives the plugin's stage (the pipeline writes map.vdb later), so it is
+    // built by OpenVDB's registered factory and its virtual functions live in libopenvdb.
+    // Inside a dlopen'ed hidden-visibility module, Tree::treeType() (std::call_once on a
+    // module-local static) crashes, so this file never calls type() / gridType() itself:
+    // the type name is spelled out and checked through the library's virtual type().
+    const std::string float_grid_type = "Tree_float_5_4_3";
+    openvdb::FloatGrid::Ptr grid;
+    if (openvdb::GridBase::isRegistered(float_grid_type)) {
+        openvdb::GridBase::Ptr base = openvdb::GridBase::createGrid(float_grid_type);
+        if (base && base->type() == float_grid_type) {
+            grid = openvdb::StaticPtrCast<openvdb::FloatGrid>(base);
+        }
+    }
+    if (!grid) grid = openvdb::FloatGrid::create();
+    grid->tree().root().setBackground(static_cast<float>(kUnknownLabel), true);
     grid->setTransform(transform.copy());
     grid->setName("label");
     grid->setGridClass(openvdb::GRID_UNKNOWN);
