@@ -95,7 +95,7 @@ int main(int argc, char** argv) {
     long faces_target = 1000000;
     int num_views = 200;
     int threads = 2;
-    int max_candidates = 10;
+    int max_candidates = 0;
     std::string json_path;
     app.add_option("--faces", faces_target, "Approximate number of faces");
     app.add_option("--views", num_views, "Number of views (frames, one camera)");

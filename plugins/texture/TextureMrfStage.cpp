@@ -26,7 +26,7 @@ void TextureMrfStage::declareOptions(OptionSpec& spec) {
              lambda_, 1.0);
     spec.add("max_candidates",
              "Views per face the MRF may choose from (highest E_Q first); 0 = all", max_candidates_,
-             10);
+             0);
     spec.add("vignetting", "Correct vignetting I' = g(r) I before anything else", vignetting_,
              false);
     spec.add("vignetting_params",

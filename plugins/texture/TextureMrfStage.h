@@ -29,7 +29,7 @@ public:
 private:
     bool mrf_ = true;
     double lambda_ = 1.0;
-    int max_candidates_ = 10;
+    int max_candidates_ = 0;
     bool vignetting_ = false;
     std::vector<double> vignetting_params_;
     bool estimate_vignetting_ = false;
