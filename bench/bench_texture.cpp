@@ -6,14 +6,14 @@
 // adjustment) and the peak memory after each. Results: docs/benchmarks/texture.md.
 //
 //   bench_texture --faces 1000000 --views 200 --threads 2
-#include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 
+#include <CLI/CLI.hpp>
 #include <cmath>
 #include <fstream>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "TexturePipeline.h"
@@ -25,15 +25,15 @@
 namespace {
 
 using vdbmap::Vec3f;
-constexpr double kHalfWidth = 6.0;   // facades at x = +-6 m
-constexpr double kGroundY = 1.7;     // camera 1.7 m above the road (y down)
-constexpr double kTopY = -6.0;       // facade top
-constexpr double kStep = 0.5;        // metres between frames
+constexpr double kHalfWidth = 6.0;  // facades at x = +-6 m
+constexpr double kGroundY = 1.7;    // camera 1.7 m above the road (y down)
+constexpr double kTopY = -6.0;      // facade top
+constexpr double kStep = 0.5;       // metres between frames
 
 /// Adds a grid on a plane spanned by `origin + s * du + t * dv`, wound so that its normal
 /// points to `towards`.
-void addGrid(vdbmap::TriMesh& mesh, const Vec3f& origin, const Vec3f& du, const Vec3f& dv,
-             int nu, int nv, const Vec3f& towards) {
+void addGrid(vdbmap::TriMesh& mesh, const Vec3f& origin, const Vec3f& du, const Vec3f& dv, int nu,
+             int nv, const Vec3f& towards) {
     std::vector<vdbmap::TriMesh::VertexHandle> vh;
     vh.reserve(static_cast<std::size_t>(nu + 1) * (nv + 1));
     for (int j = 0; j <= nv; ++j) {
@@ -74,9 +74,18 @@ cv::Mat renderView(double z_cam, int width, int height, double f, double cx, dou
             const double dx = (u - cx) / f, dy = (v - cy) / f;
             double t = 1e9;
             int surface = -1;
-            if (dx > 1e-9 && kHalfWidth / dx < t) { t = kHalfWidth / dx; surface = 0; }
-            if (dx < -1e-9 && -kHalfWidth / dx < t) { t = -kHalfWidth / dx; surface = 1; }
-            if (dy > 1e-9 && kGroundY / dy < t) { t = kGroundY / dy; surface = 2; }
+            if (dx > 1e-9 && kHalfWidth / dx < t) {
+                t = kHalfWidth / dx;
+                surface = 0;
+            }
+            if (dx < -1e-9 && -kHalfWidth / dx < t) {
+                t = -kHalfWidth / dx;
+                surface = 1;
+            }
+            if (dy > 1e-9 && kGroundY / dy < t) {
+                t = kGroundY / dy;
+                surface = 2;
+            }
             if (surface < 0) {
                 image.at<cv::Vec3b>(v, u) = cv::Vec3b(230, 200, 180);  // sky
                 continue;

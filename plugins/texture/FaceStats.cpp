@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-
 #include <opencv2/imgproc.hpp>
 
 #include "Raster.h"
@@ -33,7 +32,7 @@ cv::Mat gradientMagnitude(const cv::Mat& bgr_f32) {
 }
 
 std::vector<std::vector<std::uint64_t>> observationsPerView(const Visibility& vis,
-                                                             std::size_t num_views) {
+                                                            std::size_t num_views) {
     std::vector<std::vector<std::uint64_t>> per_view(num_views);
     for (std::uint64_t i = 0; i < vis.obs.size(); ++i) {
         const std::uint32_t view = vis.obs[i].view;
@@ -79,8 +78,8 @@ void computeObservationStats(const cv::Mat& bgr_f32, const Visibility& vis,
         ObservationStats& out = stats[index];
         if (covered > 0) {
             out.pixels = static_cast<std::uint32_t>(covered);
-            out.mean_bgr = Vec3f(float(sums[0] / covered), float(sums[1] / covered),
-                                 float(sums[2] / covered));
+            out.mean_bgr =
+                Vec3f(float(sums[0] / covered), float(sums[1] / covered), float(sums[2] / covered));
             out.quality = with_quality ? static_cast<float>(sums[3]) : 0.0f;
         } else {
             // Smaller than a pixel: the pixel nearest to the centroid, weighted by the area.

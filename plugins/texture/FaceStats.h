@@ -2,9 +2,8 @@
 #pragma once
 
 #include <cstdint>
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "TextureTypes.h"
 #include "vdbmap/render/Visibility.h"
@@ -27,7 +26,7 @@ void computeObservationStats(const cv::Mat& bgr_f32, const Visibility& vis,
 
 /// For every view, the indices into `vis.obs` of its observations (inverse of the CSR).
 std::vector<std::vector<std::uint64_t>> observationsPerView(const Visibility& vis,
-                                                             std::size_t num_views);
+                                                            std::size_t num_views);
 
 /// Converts an 8-bit BGR image to CV_32FC3 (0..255). Throws InvalidInput on an empty image or
 /// another type.

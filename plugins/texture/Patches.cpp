@@ -28,8 +28,8 @@ std::vector<Patch> buildPatches(const std::vector<std::uint32_t>& face_labels,
     std::iota(parent.begin(), parent.end(), 0u);
     for (const auto& [a, b] : adjacency) {
         if (a >= num_faces || b >= num_faces) {
-            throw InvalidInput("texture: adjacency refers to face " + std::to_string(std::max(a, b)) +
-                               " of " + std::to_string(num_faces));
+            throw InvalidInput("texture: adjacency refers to face " +
+                               std::to_string(std::max(a, b)) + " of " + std::to_string(num_faces));
         }
         if (face_labels[a] == kNoLabel || face_labels[a] != face_labels[b]) continue;
         const std::uint32_t ra = findRoot(parent, a), rb = findRoot(parent, b);

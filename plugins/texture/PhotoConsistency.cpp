@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "PhotoConsistency.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 namespace vdbmap::texture {
 
@@ -92,32 +92,32 @@ std::vector<char> photoConsistentViews(const std::vector<Vec3f>& colors_bgr,
 }
 
 std::size_t applyPhotoConsistency(const Visibility& vis, const std::vector<ObservationStats>& stats,
-                                  const PhotoConsistencyOptions& options,
-                                  std::vector<char>& keep) {
+                                  const PhotoConsistencyOptions& options, std::vector<char>& keep) {
     std::atomic<std::size_t> rejected{0};
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vis.numFaces(), 256),
                       [&](const tbb::blocked_range<std::size_t>& range) {
-        std::vector<Vec3f> colors;
-        std::vector<std::uint64_t> indices;
-        std::size_t local_rejected = 0;
-        for (std::size_t f = range.begin(); f != range.end(); ++f) {
-            colors.clear();
-            indices.clear();
-            for (std::uint64_t i = vis.offsets[f]; i < vis.offsets[f + 1]; ++i) {
-                if (!keep[i]) continue;
-                colors.push_back(stats[i].mean_bgr);
-                indices.push_back(i);
-            }
-            const std::vector<char> inliers = photoConsistentViews(colors, options);
-            for (std::size_t k = 0; k < indices.size(); ++k) {
-                if (!inliers[k]) {
-                    keep[indices[k]] = 0;
-                    ++local_rejected;
-                }
-            }
-        }
-        rejected += local_rejected;
-    });
+                          std::vector<Vec3f> colors;
+                          std::vector<std::uint64_t> indices;
+                          std::size_t local_rejected = 0;
+                          for (std::size_t f = range.begin(); f != range.end(); ++f) {
+                              colors.clear();
+                              indices.clear();
+                              for (std::uint64_t i = vis.offsets[f]; i < vis.offsets[f + 1]; ++i) {
+                                  if (!keep[i]) continue;
+                                  colors.push_back(stats[i].mean_bgr);
+                                  indices.push_back(i);
+                              }
+                              const std::vector<char> inliers =
+                                  photoConsistentViews(colors, options);
+                              for (std::size_t k = 0; k < indices.size(); ++k) {
+                                  if (!inliers[k]) {
+                                      keep[indices[k]] = 0;
+                                      ++local_rejected;
+                                  }
+                              }
+                          }
+                          rejected += local_rejected;
+                      });
     return rejected;
 }
 

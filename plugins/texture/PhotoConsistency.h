@@ -11,10 +11,10 @@ namespace vdbmap::texture {
 
 /// Options of the photo-consistency check (Waechter et al. 2014, in HSV as the paper says).
 struct PhotoConsistencyOptions {
-    int min_views = 3;            ///< faces with fewer candidate views are left alone
-    double max_distance = 2.5;    ///< reject a view farther than this many (robust) sigmas
-    double min_sigma = 0.04;      ///< floor of the per-axis spread, HSV-cone units (0..1)
-    int iterations = 10;          ///< mean-shift iterations
+    int min_views = 3;          ///< faces with fewer candidate views are left alone
+    double max_distance = 2.5;  ///< reject a view farther than this many (robust) sigmas
+    double min_sigma = 0.04;    ///< floor of the per-axis spread, HSV-cone units (0..1)
+    int iterations = 10;        ///< mean-shift iterations
 };
 
 /// A BGR colour (0..255) in the HSV cone: (s cos h, s sin h, v), all in [-1, 1]. The cone
@@ -33,7 +33,6 @@ std::vector<char> photoConsistentViews(const std::vector<Vec3f>& colors_bgr,
 /// Runs the check on every face; `keep[obs]` is set to 0 for rejected observations (entries
 /// already 0 stay 0). Returns the number of observations rejected. Parallel over faces.
 std::size_t applyPhotoConsistency(const Visibility& vis, const std::vector<ObservationStats>& stats,
-                                  const PhotoConsistencyOptions& options,
-                                  std::vector<char>& keep);
+                                  const PhotoConsistencyOptions& options, std::vector<char>& keep);
 
 }  // namespace vdbmap::texture

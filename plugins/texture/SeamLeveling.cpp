@@ -1,11 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "SeamLeveling.h"
 
-#include <algorithm>
-#include <cmath>
-
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/Sparse>
+#include <algorithm>
+#include <cmath>
 
 #include "vdbmap/Error.h"
 #include "vdbmap/mrf/PottsMrf.h"
@@ -140,7 +139,8 @@ SeamLevelingResult solveSeamLeveling(const MeshArrays& mesh,
         if (face_patch[f] == kNoLabel) continue;
         for (int k = 0; k < 3; ++k) {
             const std::size_t i = index.find(face_patch[f], mesh.faces[f][k]);
-            result.corner_correction[f][k] = g.row(static_cast<Eigen::Index>(i)).transpose().cast<float>();
+            result.corner_correction[f][k] =
+                g.row(static_cast<Eigen::Index>(i)).transpose().cast<float>();
         }
     }
     return result;

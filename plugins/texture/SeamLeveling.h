@@ -39,9 +39,9 @@ struct SeamLevelingOptions {
 /// Result: an additive correction per face corner (0 for faces without a patch).
 struct SeamLevelingResult {
     std::vector<std::array<Vec3f, 3>> corner_correction;  ///< per face, BGR, 0..255 units
-    std::size_t unknowns = 0;     ///< (patch, vertex) pairs
-    std::size_t seam_terms = 0;   ///< seam vertex constraints
-    int iterations = 0;           ///< CG iterations (max over channels)
+    std::size_t unknowns = 0;                             ///< (patch, vertex) pairs
+    std::size_t seam_terms = 0;                           ///< seam vertex constraints
+    int iterations = 0;                                   ///< CG iterations (max over channels)
     double max_abs_correction = 0;
 };
 

@@ -43,7 +43,8 @@ AtlasLayout layoutAtlas(const std::vector<Patch>& patches,
                         const std::vector<std::array<Eigen::Vector2f, 3>>& face_pixels,
                         std::size_t num_faces, int padding_px, int max_size_px) {
     if (padding_px < 0) {
-        throw InvalidInput("layoutAtlas: padding_px must be >= 0, got " + std::to_string(padding_px));
+        throw InvalidInput("layoutAtlas: padding_px must be >= 0, got " +
+                           std::to_string(padding_px));
     }
     AtlasLayout layout;
     layout.face_chart.assign(num_faces, kNoLabel);
@@ -63,15 +64,15 @@ AtlasLayout layoutAtlas(const std::vector<Patch>& patches,
         sizes.push_back(layout.charts[c].size);
         for (std::uint32_t f : layout.charts[c].faces) layout.face_chart[f] = c;
     }
-    layout.has_fill_block =
-        std::find(layout.face_chart.begin(), layout.face_chart.end(), kNoLabel) !=
-        layout.face_chart.end();
+    layout.has_fill_block = std::find(layout.face_chart.begin(), layout.face_chart.end(),
+                                      kNoLabel) != layout.face_chart.end();
     if (layout.has_fill_block) {
         layout.fill_size = 4 + 2 * padding_px;
         sizes.push_back({layout.fill_size, layout.fill_size});
     }
     PackResult packed = packRects(sizes, max_size_px);
-    for (std::size_t c = 0; c < layout.charts.size(); ++c) layout.charts[c].place = packed.placements[c];
+    for (std::size_t c = 0; c < layout.charts.size(); ++c)
+        layout.charts[c].place = packed.placements[c];
     if (layout.has_fill_block) layout.fill_place = packed.placements.back();
     layout.pages = std::move(packed.pages);
     return layout;

@@ -3,9 +3,8 @@
 
 #include <array>
 #include <cstdint>
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "AtlasPacker.h"
 #include "Patches.h"
@@ -19,9 +18,9 @@ struct Chart {
     std::uint32_t patch = 0;
     std::uint32_t view = 0;
     std::vector<std::uint32_t> faces;
-    int x0 = 0, y0 = 0;  ///< top-left source pixel in the view's image (may lie outside it)
-    RectSize size;       ///< including the padding border
-    RectPlacement place; ///< in the atlas
+    int x0 = 0, y0 = 0;   ///< top-left source pixel in the view's image (may lie outside it)
+    RectSize size;        ///< including the padding border
+    RectPlacement place;  ///< in the atlas
 };
 
 /// Where every face's texture lives.
@@ -30,7 +29,7 @@ struct AtlasLayout {
     std::vector<RectSize> pages;
     std::vector<std::uint32_t> face_chart;  ///< per face; kNoLabel = untextured (fill block)
     bool has_fill_block = false;
-    RectPlacement fill_place;               ///< the grey block for faces no view saw
+    RectPlacement fill_place;  ///< the grey block for faces no view saw
     int fill_size = 0;
 };
 

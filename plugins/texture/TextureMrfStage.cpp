@@ -72,8 +72,9 @@ void TextureMrfStage::initialize() {
         failConfig("option 'estimate_vignetting' needs 'vignetting: true'");
     }
     if (vignetting_ && !estimate_vignetting_ && vignetting_params_.empty()) {
-        failConfig("option 'vignetting' is on but 'vignetting_params' is empty and "
-                   "'estimate_vignetting' is off");
+        failConfig(
+            "option 'vignetting' is on but 'vignetting_params' is empty and "
+            "'estimate_vignetting' is off");
     }
     if (padding_px_ < 1 || padding_px_ > 64) {
         failConfig("option 'padding_px' must be in [1, 64], got " + std::to_string(padding_px_));
@@ -95,7 +96,8 @@ void TextureMrfStage::initialize() {
                    std::to_string(photo_max_distance_));
     }
     if (seam_smoothness_ < 0) {
-        failConfig("option 'seam_smoothness' must be >= 0, got " + std::to_string(seam_smoothness_));
+        failConfig("option 'seam_smoothness' must be >= 0, got " +
+                   std::to_string(seam_smoothness_));
     }
     if (output_subdir_.empty()) failConfig("option 'output_subdir' must not be empty");
 }
@@ -223,8 +225,8 @@ void TextureMrfStage::run(Context& ctx) {
     report.stage(stage, "faces_per_s", total_s > 0 ? double(s.faces) / total_s : 0.0);
     std::ostringstream msg;
     msg << "texture.mrf: " << s.faces << " faces, " << s.views << " views, " << s.patches
-        << " patches in " << s.pages << " atlas page(s), " << s.faces_untextured
-        << " untextured, " << total_s << " s";
+        << " patches in " << s.pages << " atlas page(s), " << s.faces_untextured << " untextured, "
+        << total_s << " s";
     logInfo(msg.str());
 }
 

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "TexturePipeline.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
-
-#include <tbb/parallel_for.h>
 
 #include "FaceStats.h"
 #include "Patches.h"
@@ -102,8 +102,8 @@ void checkInputs(const MeshArrays& mesh, const std::vector<View>& views, const V
     for (const auto& face : mesh.faces) {
         for (std::uint32_t v : face) {
             if (v >= mesh.vertices_W.size()) {
-                throw InvalidInput("texture: face refers to vertex " + std::to_string(v) +
-                                   " of " + std::to_string(mesh.vertices_W.size()));
+                throw InvalidInput("texture: face refers to vertex " + std::to_string(v) + " of " +
+                                   std::to_string(mesh.vertices_W.size()));
             }
         }
     }
@@ -121,8 +121,7 @@ void checkInputs(const MeshArrays& mesh, const std::vector<View>& views, const V
 /// Beyond the paper: estimates (a, b, c) per camera from the uncorrected observations.
 std::vector<VignettingEstimate> estimateFromImages(
     const std::vector<View>& views, const Visibility& vis,
-    const std::vector<std::vector<std::uint64_t>>& per_view, const ImageLoader& load,
-    bool quiet) {
+    const std::vector<std::vector<std::uint64_t>>& per_view, const ImageLoader& load, bool quiet) {
     std::vector<ObservationStats> raw(vis.obs.size());
     Progress progress("texture: vignetting samples", views.size(), quiet);
     tbb::parallel_for(std::size_t{0}, views.size(), [&](std::size_t v) {
@@ -180,7 +179,8 @@ TextureResult textureMesh(const MeshArrays& mesh, const std::vector<View>& views
         for (const auto& e : stats.vignetting_estimates) vignetting.push_back(e.params);
         clock.done("vignetting_estimate");
     }
-    const std::vector<VignettingParams>* vignetting_used = options.vignetting ? &vignetting : nullptr;
+    const std::vector<VignettingParams>* vignetting_used =
+        options.vignetting ? &vignetting : nullptr;
     if (options.vignetting) stats.vignetting_used = vignetting;
 
     // Pass 1: E_Q (paper Eq. E_Q) and mean colours of every observation, one image per task.
@@ -204,9 +204,8 @@ TextureResult textureMesh(const MeshArrays& mesh, const std::vector<View>& views
     }
 
     // View selection (paper Sec. 5.1).
-    const MrfProblem problem =
-        buildViewSelectionProblem(vis, obs_stats, keep, adjacency, views.size(), options.lambda,
-                                  options.max_candidates);
+    const MrfProblem problem = buildViewSelectionProblem(
+        vis, obs_stats, keep, adjacency, views.size(), options.lambda, options.max_candidates);
     const MrfSolution solution = selectViews(problem, options.use_mrf);
     stats.energy_initial = solution.initial_energy;
     stats.energy_final = solution.final_energy;
@@ -230,9 +229,9 @@ TextureResult textureMesh(const MeshArrays& mesh, const std::vector<View>& views
             ++stats.faces_untextured;
             continue;
         }
-        const FaceObservation* it = std::lower_bound(
-            vis.begin(f), vis.end(f), view,
-            [](const FaceObservation& o, std::uint32_t v) { return o.view < v; });
+        const FaceObservation* it =
+            std::lower_bound(vis.begin(f), vis.end(f), view,
+                             [](const FaceObservation& o, std::uint32_t v) { return o.view < v; });
         face_pixels[f] = it->pixels;
     }
     const AtlasLayout layout = layoutAtlas(patches, face_pixels, mesh.faces.size(),
@@ -244,9 +243,9 @@ TextureResult textureMesh(const MeshArrays& mesh, const std::vector<View>& views
     for (const RectSize& s : layout.pages) {
         result.pages.emplace_back(s.height, s.width, CV_8UC3, cv::Scalar(0, 0, 0));
     }
-    const std::vector<SeamEdge> seams =
-        options.global_adjustment ? findSeamEdges(mesh, face_patch, adjacency)
-                                  : std::vector<SeamEdge>{};
+    const std::vector<SeamEdge> seams = options.global_adjustment
+                                            ? findSeamEdges(mesh, face_patch, adjacency)
+                                            : std::vector<SeamEdge>{};
     stats.seam_edges = seams.size();
     clock.done("patches_layout");
 

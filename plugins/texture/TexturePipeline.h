@@ -3,11 +3,10 @@
 
 #include <array>
 #include <cstdint>
+#include <opencv2/core.hpp>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "PhotoConsistency.h"
 #include "SeamLeveling.h"
@@ -19,10 +18,10 @@ namespace vdbmap::texture {
 
 /// Everything the texturing of paper Sec. 5 can be told; each of the four steps can be off.
 struct TextureOptions {
-    bool use_mrf = true;         ///< view selection MRF; false = per-face best view
-    double lambda = 1.0;         ///< Potts weight of the MRF
-    std::size_t max_candidates = 0;  ///< views per face kept for the MRF (highest E_Q), 0 = all
-    bool vignetting = false;     ///< correct vignetting with `vignetting_params`
+    bool use_mrf = true;               ///< view selection MRF; false = per-face best view
+    double lambda = 1.0;               ///< Potts weight of the MRF
+    std::size_t max_candidates = 0;    ///< views per face kept for the MRF (highest E_Q), 0 = all
+    bool vignetting = false;           ///< correct vignetting with `vignetting_params`
     bool estimate_vignetting = false;  ///< estimate the parameters instead (needs vignetting)
     std::vector<VignettingParams> vignetting_params;  ///< per camera index (View::camera)
     bool photo_consistency = true;
@@ -32,7 +31,7 @@ struct TextureOptions {
     int padding_px = 2;
     int atlas_max_size_px = 8192;
     std::array<std::uint8_t, 3> fill_bgr{128, 128, 128};  ///< colour of faces no view saw
-    bool quiet = true;           ///< no progress bars
+    bool quiet = true;                                    ///< no progress bars
 };
 
 /// Counts, energies, timings (s) and peak memory (bytes, process high-water mark after the
@@ -44,7 +43,7 @@ struct TextureStats {
     std::size_t patches = 0, charts = 0, pages = 0, seam_edges = 0;
     double energy_initial = 0, energy_final = 0;
     int mrf_sweeps = 0;
-    SeamLevelingResult leveling_summary;  ///< corner corrections cleared after use
+    SeamLevelingResult leveling_summary;                   ///< corner corrections cleared after use
     std::vector<VignettingEstimate> vignetting_estimates;  ///< per camera, if estimated
     std::vector<VignettingParams> vignetting_used;         ///< per camera
     std::vector<std::pair<std::string, double>> timings_s;
@@ -53,7 +52,7 @@ struct TextureStats {
 
 /// The textured mesh: atlas pages and a UV triangle + page per face.
 struct TextureResult {
-    std::vector<cv::Mat> pages;  ///< CV_8UC3 BGR
+    std::vector<cv::Mat> pages;                            ///< CV_8UC3 BGR
     std::vector<std::array<Eigen::Vector2f, 3>> face_uvs;  ///< OBJ convention
     std::vector<std::uint32_t> face_page;
     std::vector<std::uint32_t> face_view;  ///< chosen view, kNoLabel = fill

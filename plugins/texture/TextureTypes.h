@@ -4,9 +4,8 @@
 #include <array>
 #include <cstdint>
 #include <functional>
-#include <vector>
-
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "vdbmap/core/Types.h"
 #include "vdbmap/mesh/TriMesh.h"
@@ -29,9 +28,9 @@ using ImageLoader = std::function<cv::Mat(std::size_t view)>;
 
 /// Per (face, view) observation statistics gathered in one streaming pass over the images.
 struct ObservationStats {
-    float quality = 0;                       ///< E_Q: sum of gradient magnitude over the face
-    Vec3f mean_bgr = Vec3f::Zero();          ///< mean colour over the face's pixels, 0..255
-    std::uint32_t pixels = 0;                ///< pixels whose centre lies inside the face
+    float quality = 0;               ///< E_Q: sum of gradient magnitude over the face
+    Vec3f mean_bgr = Vec3f::Zero();  ///< mean colour over the face's pixels, 0..255
+    std::uint32_t pixels = 0;        ///< pixels whose centre lies inside the face
 };
 
 }  // namespace vdbmap::texture

@@ -1,10 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "Vignetting.h"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
-
-#include <Eigen/Dense>
 
 #include "vdbmap/Error.h"
 
@@ -32,7 +31,8 @@ void correctVignetting(cv::Mat& image_f32, const VignettingParams& params, doubl
     for (int y = 0; y < image_f32.rows; ++y) {
         auto* row = image_f32.ptr<cv::Vec3f>(y);
         for (int x = 0; x < image_f32.cols; ++x) {
-            const float g = static_cast<float>(vignettingGain(params, vignettingRadius(x, y, cu, cv)));
+            const float g =
+                static_cast<float>(vignettingGain(params, vignettingRadius(x, y, cu, cv)));
             row[x] *= g;  // Paper: I'(u, v) = g(r) * I(u, v)
         }
     }

@@ -1,13 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <catch2/catch.hpp>
-
-#include "vdbmap/Error.h"
-
 #include <random>
 
 #include "AtlasPacker.h"
 #include "Patches.h"
 #include "TextureAtlas.h"
+#include "vdbmap/Error.h"
 #include "vdbmap/mrf/PottsMrf.h"
 
 using namespace vdbmap::texture;
@@ -55,8 +53,8 @@ TEST_CASE("shelf packer places rectangles without overlap inside the pages", "[t
 
 TEST_CASE("patches are connected faces with the same view", "[texture][atlas]") {
     // A strip of 6 faces 0-1-2-3-4-5; labels A A B B A none.
-    const std::vector<std::array<std::uint32_t, 2>> adjacency = {{0, 1}, {1, 2}, {2, 3}, {3, 4},
-                                                                 {4, 5}};
+    const std::vector<std::array<std::uint32_t, 2>> adjacency = {
+        {0, 1}, {1, 2}, {2, 3}, {3, 4}, {4, 5}};
     const std::vector<std::uint32_t> labels = {7, 7, 3, 3, 7, vdbmap::kNoLabel};
     std::vector<std::uint32_t> face_patch;
     const auto patches = buildPatches(labels, adjacency, &face_patch);
@@ -72,8 +70,10 @@ TEST_CASE("patches are connected faces with the same view", "[texture][atlas]") 
 TEST_CASE("atlas layout pads charts, splits oversized patches and adds a fill block",
           "[texture][atlas]") {
     std::vector<std::array<Eigen::Vector2f, 3>> pixels = {
-        {Eigen::Vector2f(10.2f, 20.5f), Eigen::Vector2f(30.7f, 20.5f), Eigen::Vector2f(10.2f, 40.1f)},
-        {Eigen::Vector2f(30.7f, 20.5f), Eigen::Vector2f(30.7f, 40.1f), Eigen::Vector2f(10.2f, 40.1f)},
+        {Eigen::Vector2f(10.2f, 20.5f), Eigen::Vector2f(30.7f, 20.5f),
+         Eigen::Vector2f(10.2f, 40.1f)},
+        {Eigen::Vector2f(30.7f, 20.5f), Eigen::Vector2f(30.7f, 40.1f),
+         Eigen::Vector2f(10.2f, 40.1f)},
         {Eigen::Vector2f(0, 0), Eigen::Vector2f(1, 0), Eigen::Vector2f(0, 1)},
         {Eigen::Vector2f(60, 0), Eigen::Vector2f(110, 0), Eigen::Vector2f(60, 1)},
         {Eigen::Vector2f(0, 0), Eigen::Vector2f(0, 0), Eigen::Vector2f(0, 0)}};

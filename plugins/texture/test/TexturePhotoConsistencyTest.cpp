@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <catch2/catch.hpp>
-
 #include <random>
 
 #include "PhotoConsistency.h"
@@ -14,8 +13,8 @@ TEST_CASE("HSV cone maps hue circularly and grey to the axis", "[texture]") {
     CHECK(grey.y() == Approx(0.0f).margin(1e-6));
     CHECK(grey.z() == Approx(128.0f / 255.0f));
     // Hue 358 deg and 2 deg are neighbours in the cone, far apart as numbers.
-    const Vec3f a = bgrToHsvCone(Vec3f(8, 0, 255));   // red, slightly blue: hue ~358
-    const Vec3f b = bgrToHsvCone(Vec3f(0, 8, 255));   // red, slightly green: hue ~2
+    const Vec3f a = bgrToHsvCone(Vec3f(8, 0, 255));  // red, slightly blue: hue ~358
+    const Vec3f b = bgrToHsvCone(Vec3f(0, 8, 255));  // red, slightly green: hue ~2
     CHECK((a - b).norm() < 0.1f);
     const Vec3f green = bgrToHsvCone(Vec3f(0, 255, 0));
     CHECK((a - green).norm() > 1.0f);
@@ -39,8 +38,8 @@ TEST_CASE("photo-consistency rejects a minority occluder", "[texture]") {
 }
 
 TEST_CASE("photo-consistency keeps consistent views and small sets", "[texture]") {
-    const std::vector<Vec3f> consistent = {{100, 100, 100}, {104, 101, 99}, {97, 99, 102},
-                                           {101, 103, 100}};
+    const std::vector<Vec3f> consistent = {
+        {100, 100, 100}, {104, 101, 99}, {97, 99, 102}, {101, 103, 100}};
     const auto keep = photoConsistentViews(consistent, {});
     for (char k : keep) CHECK(k);
     // Two views cannot out-vote each other.
@@ -59,7 +58,7 @@ TEST_CASE("photo-consistency over a visibility only clears flags", "[texture]") 
     stats[1].mean_bgr = {102, 100, 99};
     stats[2].mean_bgr = {20, 200, 20};  // occluder
     stats[3].mean_bgr = {99, 101, 100};
-    stats[4].mean_bgr = {10, 10, 10};   // alone on face 1
+    stats[4].mean_bgr = {10, 10, 10};  // alone on face 1
     std::vector<char> keep = {1, 1, 1, 1, 1};
     const std::size_t rejected = applyPhotoConsistency(vis, stats, {}, keep);
     CHECK(rejected == 1);

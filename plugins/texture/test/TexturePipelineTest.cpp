@@ -1,16 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <catch2/catch.hpp>
-
-#include "vdbmap/Error.h"
-
 #include <cmath>
 #include <filesystem>
-
 #include <opencv2/imgcodecs.hpp>
 
 #include "ObjExport.h"
 #include "TexturePipeline.h"
 #include "TextureTestScenes.h"
+#include "vdbmap/Error.h"
 #include "vdbmap/io/MeshIO.h"
 #include "vdbmap/mrf/PottsMrf.h"
 
@@ -42,9 +39,9 @@ cv::Mat renderPlane(const vdbmap::View& view, float offset, const VignettingPara
             const double g = vignettingGain(
                 vignette, vignettingRadius(u, v, (in.width - 1) / 2.0, (in.height - 1) / 2.0));
             const Vec3f c = (planeColor(x, y) + Vec3f::Constant(offset)) / static_cast<float>(g);
-            image.at<cv::Vec3b>(v, u) = cv::Vec3b(cv::saturate_cast<uchar>(c[0]),
-                                                  cv::saturate_cast<uchar>(c[1]),
-                                                  cv::saturate_cast<uchar>(c[2]));
+            image.at<cv::Vec3b>(v, u) =
+                cv::Vec3b(cv::saturate_cast<uchar>(c[0]), cv::saturate_cast<uchar>(c[1]),
+                          cv::saturate_cast<uchar>(c[2]));
         }
     }
     return image;
@@ -71,7 +68,8 @@ struct TwoViewScene {
             if (hide_face0 && f == 0) return false;
             return (centroidX(f) < 0) == (v == 0);
         });
-        images = {renderPlane(views[0], 0.0f, vignette), renderPlane(views[1], offset_view1, vignette)};
+        images = {renderPlane(views[0], 0.0f, vignette),
+                  renderPlane(views[1], offset_view1, vignette)};
     }
     float centroidX(std::size_t f) const {
         float x = 0;

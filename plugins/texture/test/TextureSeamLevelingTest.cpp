@@ -1,10 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <catch2/catch.hpp>
 
-#include "vdbmap/Error.h"
-
 #include "SeamLeveling.h"
 #include "TextureTestScenes.h"
+#include "vdbmap/Error.h"
 #include "vdbmap/mrf/PottsMrf.h"
 
 using namespace vdbmap::texture;

@@ -10,7 +10,8 @@
 namespace vdbmap::texture::test {
 
 /// A planar grid at z = depth_m in the world, facing -z (towards cameras at the origin looking
-/// along +z), cols x rows quads of two triangles each, spanning [-half_w, half_w] x [-half_h, half_h].
+/// along +z), cols x rows quads of two triangles each, spanning [-half_w, half_w] x [-half_h,
+/// half_h].
 inline MeshArrays planeGrid(int cols, int rows, float half_w, float half_h, float depth_m) {
     MeshArrays mesh;
     for (int j = 0; j <= rows; ++j) {

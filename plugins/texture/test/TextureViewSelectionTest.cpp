@@ -1,6 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <catch2/catch.hpp>
-
 #include <random>
 
 #include "TextureTestScenes.h"
@@ -29,7 +28,8 @@ struct Scene {
             s[0] = 1;
             for (int v = 1; v < 4; ++v) s[v] = uni(rng) < 0.6f;
         }
-        vis = makeVisibility(mesh, views, [&](std::size_t f, std::uint32_t v) { return sees[f][v]; });
+        vis =
+            makeVisibility(mesh, views, [&](std::size_t f, std::uint32_t v) { return sees[f][v]; });
         stats.resize(vis.obs.size());
         for (auto& s : stats) s.quality = 10.0f + 100.0f * uni(rng);
         adjacency = bruteAdjacency(mesh);

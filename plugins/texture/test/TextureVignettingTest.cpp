@@ -1,11 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <catch2/catch.hpp>
-
-#include "vdbmap/Error.h"
-
 #include <random>
 
 #include "Vignetting.h"
+#include "vdbmap/Error.h"
 
 using namespace vdbmap::texture;
 
