@@ -3,14 +3,16 @@
 # `vdbmap` app, and an install + out-of-tree build of examples/plugin_template.
 set(_vdbmap_test_plugins vdbmap_plugin_testgood vdbmap_plugin_badabi vdbmap_plugin_nosymbol
     vdbmap_plugin_badreg)
-foreach(test_target PluginLoaderTest CliTest PipelineTest)
+foreach(test_target PluginLoaderTest CliTest PipelineTest InfoCommandTest)
     if(TARGET ${test_target})
         add_dependencies(${test_target} ${_vdbmap_test_plugins})
     endif()
 endforeach()
-if(TARGET CliTest AND TARGET vdbmap_app)
-    add_dependencies(CliTest vdbmap_app)
-endif()
+foreach(test_target CliTest InfoCommandTest)
+    if(TARGET ${test_target} AND TARGET vdbmap_app)
+        add_dependencies(${test_target} vdbmap_app)
+    endif()
+endforeach()
 # StageRegistryTest and ConfigFilesTest also load the in-tree plugins when they are built.
 foreach(test_target StageRegistryTest ConfigFilesTest)
     foreach(plugin texture semantic)
