@@ -41,7 +41,7 @@ Chart makeChart(std::uint32_t patch, std::uint32_t view, std::vector<std::uint32
 
 AtlasLayout layoutAtlas(const std::vector<Patch>& patches,
                         const std::vector<std::array<Eigen::Vector2f, 3>>& face_pixels,
-                        std::size_t num_faces, int padding_px, int max_size_px) {
+                        std::size_t num_faces, int padding_px, int max_size_px, int fill_cells) {
     if (padding_px < 0) {
         throw InvalidInput("layoutAtlas: padding_px must be >= 0, got " +
                            std::to_string(padding_px));
@@ -67,8 +67,10 @@ AtlasLayout layoutAtlas(const std::vector<Patch>& patches,
     layout.has_fill_block = std::find(layout.face_chart.begin(), layout.face_chart.end(),
                                       kNoLabel) != layout.face_chart.end();
     if (layout.has_fill_block) {
-        layout.fill_size = 4 + 2 * padding_px;
-        sizes.push_back({layout.fill_size, layout.fill_size});
+        layout.fill_cells = std::max(fill_cells, 1);
+        layout.fill_size = {std::min(layout.fill_cells, kFillColumns) * kFillCellPx,
+                            ((layout.fill_cells + kFillColumns - 1) / kFillColumns) * kFillCellPx};
+        sizes.push_back(layout.fill_size);
     }
     PackResult packed = packRects(sizes, max_size_px);
     for (std::size_t c = 0; c < layout.charts.size(); ++c)
@@ -153,7 +155,8 @@ void applyChartCorrection(const Chart& chart,
 
 void faceUvs(const AtlasLayout& layout,
              const std::vector<std::array<Eigen::Vector2f, 3>>& face_pixels,
-             std::vector<std::array<Eigen::Vector2f, 3>>& uvs, std::vector<std::uint32_t>& pages) {
+             std::vector<std::array<Eigen::Vector2f, 3>>& uvs, std::vector<std::uint32_t>& pages,
+             const std::vector<std::uint32_t>& face_fill_cell) {
     const std::size_t num_faces = layout.face_chart.size();
     uvs.resize(num_faces);
     pages.resize(num_faces);
@@ -164,9 +167,10 @@ void faceUvs(const AtlasLayout& layout,
     for (std::size_t f = 0; f < num_faces; ++f) {
         const std::uint32_t c = layout.face_chart[f];
         if (c == kNoLabel) {
-            const float centre = 0.5f * (layout.fill_size - 1);
-            const Eigen::Vector2f uv = toUv(layout.fill_place.page, layout.fill_place.x + centre,
-                                            layout.fill_place.y + centre);
+            const int cell = face_fill_cell.empty() ? 0 : static_cast<int>(face_fill_cell[f]);
+            const RectPlacement origin = fillCellOrigin(layout, cell);
+            const float centre = 0.5f * (kFillCellPx - 1);
+            const Eigen::Vector2f uv = toUv(origin.page, origin.x + centre, origin.y + centre);
             uvs[f] = {uv, uv, uv};
             pages[f] = static_cast<std::uint32_t>(layout.fill_place.page);
             continue;

@@ -55,6 +55,9 @@ void TextureMrfStage::declareOptions(OptionSpec& spec) {
     spec.add("max_depth_m", "Farthest visible depth", max_depth_m_, 200.0, "m");
     spec.add("occlusion_test", "Test occlusion by the mesh itself (Embree BVH)", occlusion_test_,
              true);
+    spec.add("fill",
+             "Faces no view saw: 'neighbour' (colour of the nearest textured face) or 'grey'",
+             fill_, std::string("neighbour"));
     spec.add("output_subdir", "Folder below the output folder for mesh.obj/.mtl and atlases",
              output_subdir_, std::string("textured"));
 }
@@ -100,6 +103,9 @@ void TextureMrfStage::initialize() {
                    std::to_string(seam_smoothness_));
     }
     if (output_subdir_.empty()) failConfig("option 'output_subdir' must not be empty");
+    if (fill_ != "neighbour" && fill_ != "grey") {
+        failConfig("option 'fill' must be 'neighbour' or 'grey', got '" + fill_ + "'");
+    }
 }
 
 void TextureMrfStage::declareLayers(LayerSpec& spec) const {
@@ -145,6 +151,7 @@ void TextureMrfStage::run(Context& ctx) {
     options.padding_px = padding_px_;
     options.atlas_max_size_px = atlas_max_size_px_;
     options.quiet = ctx.quiet();
+    options.fill_from_neighbours = fill_ == "neighbour";
 
     const MeshArrays mesh = meshArrays(tri_mesh);
     if (mesh.faces.empty()) fail("the mesh has no faces: nothing to texture");
@@ -194,7 +201,10 @@ void TextureMrfStage::run(Context& ctx) {
     report.stage(stage, "views", s.views);
     report.stage(stage, "observations", s.observations);
     report.stage(stage, "faces_untextured", s.faces_untextured);
-    report.stage(stage, "untextured_fill", "grey block (128,128,128) in atlas page of the block");
+    report.stage(stage, "untextured_fill",
+                 fill_ == "neighbour"
+                     ? std::string("colour of the nearest textured face (16 levels per channel)")
+                     : std::string("grey (128, 128, 128)"));
     report.stage(stage, "photo_rejected_observations", s.photo_rejected);
     report.stage(stage, "patches", s.patches);
     report.stage(stage, "charts", s.charts);

@@ -45,6 +45,7 @@ private:
     double max_depth_m_ = 200.0;
     bool occlusion_test_ = true;
     std::string output_subdir_ = "textured";
+    std::string fill_ = "neighbour";
 };
 
 }  // namespace vdbmap::texture

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <sstream>
 
 #include "FaceStats.h"
@@ -156,6 +157,83 @@ std::vector<VignettingEstimate> estimateFromImages(
     return estimateVignetting(samples, view_camera, num_cameras);
 }
 
+/// Colours of the faces no view saw. Fill "neighbour": the mean colour (in its chosen view) of
+/// the nearest textured face through the face adjacency (breadth-first), quantised to 16 levels
+/// per channel so that a palette of at most 4096 cells holds them; faces with no textured face
+/// in their component, and every face under fill "grey", get fill_bgr. Returns the palette and
+/// the cell of each untextured face.
+std::vector<Vec3f> fillPalette(const std::vector<std::uint32_t>& face_view,
+                               const std::vector<Vec3f>& face_color,
+                               const std::vector<std::array<std::uint32_t, 2>>& adjacency,
+                               const TextureOptions& options, std::vector<std::uint32_t>& cell) {
+    const std::size_t n = face_view.size();
+    cell.assign(n, 0);
+    const Vec3f grey(options.fill_bgr[0], options.fill_bgr[1], options.fill_bgr[2]);
+    std::vector<Vec3f> palette;
+    std::vector<std::int32_t> cell_of_key(4097, -1);  // 4096: fill_bgr exactly
+    auto cellOf = [&](const Vec3f& c) {
+        int key = 0;
+        Vec3f q;
+        for (int k = 0; k < 3; ++k) {
+            const int level = std::clamp(static_cast<int>(std::lround(c[k] / 17.0f)), 0, 15);
+            key = key * 16 + level;
+            q[k] = static_cast<float>(level * 17);
+        }
+        if (cell_of_key[key] < 0) {
+            cell_of_key[key] = static_cast<std::int32_t>(palette.size());
+            palette.push_back(q);
+        }
+        return static_cast<std::uint32_t>(cell_of_key[key]);
+    };
+    std::vector<Vec3f> color(face_color);
+    std::vector<char> known(n, 0);
+    std::deque<std::uint32_t> frontier;
+    if (options.fill_from_neighbours) {
+        for (std::uint32_t f = 0; f < n; ++f) {
+            if (face_view[f] != kNoLabel) {
+                known[f] = 1;
+                frontier.push_back(f);
+            }
+        }
+        std::vector<std::uint64_t> offsets(n + 1, 0);
+        for (const auto& [a, b] : adjacency) {
+            ++offsets[a + 1];
+            ++offsets[b + 1];
+        }
+        for (std::size_t f = 0; f < n; ++f) offsets[f + 1] += offsets[f];
+        std::vector<std::uint32_t> neighbours(offsets.back());
+        std::vector<std::uint64_t> fill_at(offsets.begin(), offsets.end() - 1);
+        for (const auto& [a, b] : adjacency) {
+            neighbours[fill_at[a]++] = b;
+            neighbours[fill_at[b]++] = a;
+        }
+        while (!frontier.empty()) {
+            const std::uint32_t f = frontier.front();
+            frontier.pop_front();
+            for (std::uint64_t k = offsets[f]; k < offsets[f + 1]; ++k) {
+                const std::uint32_t g = neighbours[k];
+                if (known[g]) continue;
+                known[g] = 1;
+                color[g] = color[f];
+                frontier.push_back(g);
+            }
+        }
+    }
+    for (std::uint32_t f = 0; f < n; ++f) {
+        if (face_view[f] != kNoLabel) continue;
+        if (known[f]) {
+            cell[f] = cellOf(color[f]);
+            continue;
+        }
+        if (cell_of_key[4096] < 0) {
+            cell_of_key[4096] = static_cast<std::int32_t>(palette.size());
+            palette.push_back(grey);
+        }
+        cell[f] = static_cast<std::uint32_t>(cell_of_key[4096]);
+    }
+    return palette;
+}
+
 }  // namespace
 
 TextureResult textureMesh(const MeshArrays& mesh, const std::vector<View>& views,
@@ -223,6 +301,7 @@ TextureResult textureMesh(const MeshArrays& mesh, const std::vector<View>& views
     std::vector<std::uint32_t> face_patch;
     const std::vector<Patch> patches = buildPatches(result.face_view, adjacency, &face_patch);
     std::vector<std::array<Eigen::Vector2f, 3>> face_pixels(mesh.faces.size());
+    std::vector<Vec3f> face_color(mesh.faces.size(), Vec3f::Zero());
     for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
         const std::uint32_t view = result.face_view[f];
         if (view == kNoLabel) {
@@ -233,9 +312,14 @@ TextureResult textureMesh(const MeshArrays& mesh, const std::vector<View>& views
             std::lower_bound(vis.begin(f), vis.end(f), view,
                              [](const FaceObservation& o, std::uint32_t v) { return o.view < v; });
         face_pixels[f] = it->pixels;
+        face_color[f] = obs_stats[static_cast<std::size_t>(it - vis.obs.data())].mean_bgr;
     }
-    const AtlasLayout layout = layoutAtlas(patches, face_pixels, mesh.faces.size(),
-                                           options.padding_px, options.atlas_max_size_px);
+    std::vector<std::uint32_t> face_fill_cell;
+    const std::vector<Vec3f> palette =
+        fillPalette(result.face_view, face_color, adjacency, options, face_fill_cell);
+    const AtlasLayout layout =
+        layoutAtlas(patches, face_pixels, mesh.faces.size(), options.padding_px,
+                    options.atlas_max_size_px, static_cast<int>(palette.size()));
     stats.patches = patches.size();
     stats.charts = layout.charts.size();
     stats.pages = layout.pages.size();
@@ -301,12 +385,14 @@ TextureResult textureMesh(const MeshArrays& mesh, const std::vector<View>& views
     }
 
     if (layout.has_fill_block) {
-        const cv::Rect block(layout.fill_place.x, layout.fill_place.y, layout.fill_size,
-                             layout.fill_size);
-        result.pages[layout.fill_place.page](block).setTo(
-            cv::Scalar(options.fill_bgr[0], options.fill_bgr[1], options.fill_bgr[2]));
+        for (std::size_t cell = 0; cell < palette.size(); ++cell) {
+            const RectPlacement origin = fillCellOrigin(layout, static_cast<int>(cell));
+            const Vec3f& c = palette[cell];
+            result.pages[origin.page](cv::Rect(origin.x, origin.y, kFillCellPx, kFillCellPx))
+                .setTo(cv::Scalar(c[0], c[1], c[2]));
+        }
     }
-    faceUvs(layout, face_pixels, result.face_uvs, result.face_page);
+    faceUvs(layout, face_pixels, result.face_uvs, result.face_page, face_fill_cell);
     clock.done("uvs");
     return result;
 }
