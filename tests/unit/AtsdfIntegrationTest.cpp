@@ -96,13 +96,16 @@ TEST_CASE("Plane at a non-voxel-aligned offset: SDF and mesh match the closed fo
     REQUIRE(mesh->n_faces() > 1000);
     double max_v = 0.0;
     std::size_t near = 0;
+    TriMesh::Point worst(0, 0, 0);
     for (auto v : mesh->vertices()) {
         const auto p = mesh->point(v);
         if (std::hypot(p[0], p[1]) > 10.0) continue;
+        if (std::abs(p[2] - z0) > max_v) worst = p;
         max_v = std::max(max_v, std::abs(p[2] - z0));
         ++near;
     }
-    INFO("vertices " << near << " max |z - z0| " << max_v);
+    INFO("vertices " << near << " max |z - z0| " << max_v << " at " << worst[0] << " " << worst[1]
+                     << " " << worst[2]);
     CHECK(near > 1000);
     CHECK(max_v <= 0.1 * vs + 3.0 * sigma);
     // Normals point up, towards the sensor side.

@@ -38,6 +38,7 @@ struct LocalBlock {
     std::int32_t slot = -1;  ///< index into BlockStatsGrid
     std::uint32_t begin = 0, end = 0;
     std::vector<Coord> leaves;  ///< TSDF leaf origins the block's updates may touch
+    Vec3d normal = Vec3d::Zero();  ///< normal used for the block's points (zero: ray direction)
     std::uint64_t sort_key = 0;  ///< (colour, cell) for phase 3
 };
 
@@ -218,8 +219,9 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
                 batch.cov /= (batch.n - 1.0);
             }
             entry.stats = mergeStats(entry.stats, batch);
+            // A patch narrower than a quarter voxel (std. dev.) is not trusted for a normal.
             const PlaneEstimate plane =
-                estimatePlane(entry.stats, origin_W, config_.min_points_for_pca);
+                estimatePlane(entry.stats, origin_W, config_.min_points_for_pca, 0.25 * vs);
             entry.plane_valid = plane.valid;
             entry.normal_W = plane.normal.cast<float>();
             entry.flatness = static_cast<float>(plane.flatness);
@@ -242,6 +244,37 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
                                 lb.leaves.push_back(o);
                         }
             }
+        }
+    });
+
+    // ---- Phase 2b (parallel over blocks): the normal used for each block's points. A degenerate
+    // block borrows the n-weighted mean of the valid normals of its 26 neighbours (re-oriented
+    // towards this scan's sensor); without any, its points fall back to the ray direction.
+    // Neighbour entries are only read here (phase 2 is complete), so the result is deterministic.
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, local.size(), 16),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t b = r.begin(); b < r.end(); ++b) {
+            LocalBlock& lb = local[b];
+            const BlockEntry& entry = blocks.entry(lb.slot);
+            if (entry.plane_valid) {
+                lb.normal = entry.normal_W.cast<double>();
+                continue;
+            }
+            const Coord bc = blocks.blockCoord(lb.slot);
+            Vec3d sum = Vec3d::Zero();
+            for (int dx = -1; dx <= 1; ++dx)
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dz = -1; dz <= 1; ++dz) {
+                        const std::int32_t nb = blocks.find(bc.offsetBy(dx, dy, dz));
+                        if (nb < 0) continue;
+                        const BlockEntry& ne = blocks.entry(nb);
+                        if (!ne.plane_valid) continue;
+                        Vec3d n = ne.normal_W.cast<double>();
+                        if (n.dot(origin_W - ne.stats.mean) < 0.0) n = -n;
+                        sum += ne.stats.n * n;
+                    }
+            const double norm = sum.norm();
+            lb.normal = norm > 0.0 ? Vec3d(sum / norm) : Vec3d::Zero();
         }
     });
 
@@ -295,10 +328,10 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
                 const Vec3d p = points_W[order[k]].cast<double>();
                 const Vec3d ray = p - origin_W;
                 const Vec3d dir = ray / ray.norm();
-                // Degenerate block: the ray direction is the normal (sdf along the ray).
-                const Vec3d normal = entry.plane_valid ? Vec3d(entry.normal_W.cast<double>()) : Vec3d(-dir);
-                const double w_inc =
-                    entry.plane_valid ? incidenceWeight(normal, origin_W, p, floor_w) : 1.0;
+                // No normal (isolated degenerate block): the ray direction (sdf along the ray).
+                const bool has_normal = lb.normal.squaredNorm() > 0.0;
+                const Vec3d normal = has_normal ? lb.normal : Vec3d(-dir);
+                const double w_inc = has_normal ? incidenceWeight(normal, origin_W, p, floor_w) : 1.0;
                 detail::traverseSegment(p - dir * eps, dir, 2.0 * eps, inv_vs, [&](const Coord& v) {
                     const Vec3d centre(v.x() * vs, v.y() * vs, v.z() * vs);
                     double sdf = normal.dot(centre - p);

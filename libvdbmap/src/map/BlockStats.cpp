@@ -39,7 +39,7 @@ BlockStats mergeStats(const BlockStats& a, const BlockStats& b) {
 }
 
 PlaneEstimate estimatePlane(const BlockStats& stats, const Vec3d& sensor_W, int min_points,
-                            double collinear_ratio) {
+                            double min_spread_m, double collinear_ratio) {
     PlaneEstimate plane;
     if (stats.n < static_cast<double>(min_points) || stats.n < 3.0) return plane;
     // Closed-form 3x3 solver: eigenvalues in increasing order.
@@ -49,6 +49,7 @@ PlaneEstimate estimatePlane(const BlockStats& stats, const Vec3d& sensor_W, int 
     const double l1 = ev(2), l2 = ev(1), l3 = std::max(ev(0), 0.0);
     plane.eigenvalues = Vec3d(l1, l2, l3);
     if (!(l2 > collinear_ratio * l1) || !(l2 > 0.0)) return plane;  // collinear or one point
+    if (l2 < min_spread_m * min_spread_m) return plane;              // too small a patch
     Vec3d v3 = solver.eigenvectors().col(0);
     const double norm = v3.norm();
     if (!(norm > 0.0)) return plane;

@@ -41,9 +41,14 @@ struct PlaneEstimate {
 };
 
 /// PCA of `stats` with the normal oriented towards `sensor_W`. A block is degenerate when
-/// n < min_points, or lambda2 <= collinear_ratio * lambda1 (collinear, includes lambda2 = 0).
+/// n < min_points, or lambda2 <= collinear_ratio * lambda1 (collinear, includes lambda2 = 0),
+/// or sqrt(lambda2) < min_spread_m (the points cover too little of the block, e.g. a ring that
+/// clips its corner: the normal would be decided by the range noise).
+/// The default 0.01 (spread across the line below 10% of the spread along it) also rejects a
+/// single LiDAR ring crossing a block: its arc is nearly straight and, with range noise, the
+/// smallest eigenvector would lie in the surface instead of along its normal.
 PlaneEstimate estimatePlane(const BlockStats& stats, const Vec3d& sensor_W, int min_points,
-                            double collinear_ratio = 1e-6);
+                            double min_spread_m = 0.0, double collinear_ratio = 0.01);
 
 /// What the integrator keeps per block: the statistics and the values derived from them after
 /// the last merge (the truncation eps used for the points of that block, and the plane).
