@@ -40,7 +40,7 @@ fs::path freshDir(const std::string& name) {
 
 }  // namespace
 
-TEST_CASE("--set overrides by stage index, by stage name and for sections", "[pipeline][set]") {
+TEST_CASE("overrides (--set) by stage index, by stage name and for sections", "[pipeline][set]") {
     test::registerTestStages();
     auto p = Pipeline::fromString(kConfig, "cfg.yaml", ".", {"stages.0.count=5"});
     CHECK(recorder(*p).count_ == 5);
