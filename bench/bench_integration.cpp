@@ -14,7 +14,7 @@
 #include <fstream>
 #include <iostream>
 
-#include "../tests/support/SimLidar.h"
+#include "support/SimLidar.h"
 #include "vdbmap/core/Timer.h"
 #include "vdbmap/map/AtsdfIntegrator.h"
 #include "vdbmap/map/BlockStats.h"

@@ -10,6 +10,6 @@ build_dir=${BUILD_DIR:-$root/build}
 
 if [ ! -f "$build_dir/CMakeCache.txt" ]; then
     # shellcheck disable=SC2086
-    cmake -S "$root" -B "$build_dir" -DCMAKE_BUILD_TYPE=Release ${CMAKE_ARGS:-}
+    cmake -S "$root" -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DVDBMAP_BUILD_CGAL_PLUGIN=ON ${CMAKE_ARGS:-}
 fi
 cmake --build "$build_dir" -j"$(nproc)"
