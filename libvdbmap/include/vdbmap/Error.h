@@ -7,7 +7,8 @@
 namespace vdbmap {
 
 /// Base of every error vdbmap throws. Library code never exits or prints: it throws one of
-/// these, and the apps map them to exit codes (ConfigError -> 2, everything else -> 1).
+/// these, and the apps map them to exit codes (ConfigError and PluginError -> 2, everything
+/// else -> 1).
 class Error : public std::runtime_error {
 public:
     explicit Error(const std::string& what) : std::runtime_error(what) {}

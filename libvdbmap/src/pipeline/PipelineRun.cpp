@@ -85,6 +85,9 @@ void Pipeline::run(const fs::path& output_dir, Report& report, bool quiet) {
             checkLayers(detail::datasetLayers(*dataset));
             report.set({"counts", "frames"}, dataset->numFrames());
             report.set({"counts", "cameras"}, dataset->cameras().size());
+            // DATA.md: a missing image or semantic file is no error, but the run reports it.
+            report.set({"counts", "missing_images"}, dataset->missingImages());
+            report.set({"counts", "missing_semantic_images"}, dataset->missingSemantics());
             report.set({"timings", "dataset_open_s"}, timer.elapsedSeconds());
             ctx.setDataset(std::move(dataset));
         }
