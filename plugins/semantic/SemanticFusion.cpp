@@ -8,20 +8,9 @@
 
 #include "vdbmap/Error.h"
 #include "vdbmap/map/Layers.h"
+#include "vdbmap/core/UnionFind.h"
 
 namespace vdbmap::semantic {
-
-namespace {
-
-std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t x) {
-    while (parent[x] != x) {
-        parent[x] = parent[parent[x]];
-        x = parent[x];
-    }
-    return x;
-}
-
-}  // namespace
 
 MrfProblem fusionProblem(const FaceVotes& votes,
                          const std::vector<std::array<std::uint32_t, 2>>& adjacency,

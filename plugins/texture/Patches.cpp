@@ -5,20 +5,9 @@
 
 #include "vdbmap/Error.h"
 #include "vdbmap/mrf/PottsMrf.h"
+#include "vdbmap/core/UnionFind.h"
 
 namespace vdbmap::texture {
-
-namespace {
-
-std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t x) {
-    while (parent[x] != x) {
-        parent[x] = parent[parent[x]];
-        x = parent[x];
-    }
-    return x;
-}
-
-}  // namespace
 
 std::vector<Patch> buildPatches(const std::vector<std::uint32_t>& face_labels,
                                 const std::vector<std::array<std::uint32_t, 2>>& adjacency,

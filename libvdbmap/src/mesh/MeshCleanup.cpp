@@ -2,20 +2,9 @@
 #include "vdbmap/mesh/MeshCleanup.h"
 
 #include <numeric>
+#include "vdbmap/core/UnionFind.h"
 
 namespace vdbmap {
-namespace {
-
-std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t v) {
-    while (parent[v] != v) {
-        parent[v] = parent[parent[v]];
-        v = parent[v];
-    }
-    return v;
-}
-
-}  // namespace
-
 std::size_t removeSmallComponents(std::vector<std::array<std::uint32_t, 3>>& faces,
                                   std::size_t num_vertices, int min_faces,
                                   std::size_t* faces_removed) {

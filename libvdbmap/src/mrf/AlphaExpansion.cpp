@@ -20,6 +20,7 @@
 #include "mrf/MrfCheck.h"
 #include "vdbmap/core/Log.h"
 #include "vdbmap/mrf/PottsMrf.h"
+#include "vdbmap/core/UnionFind.h"
 
 namespace vdbmap {
 
@@ -67,14 +68,6 @@ struct Components {
     std::vector<std::uint32_t> nodes;
     std::vector<std::uint64_t> offsets;
 };
-
-std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t x) {
-    while (parent[x] != x) {
-        parent[x] = parent[parent[x]];
-        x = parent[x];
-    }
-    return x;
-}
 
 Components findComponents(const MrfProblem& problem, const Adjacency& adj) {
     const std::size_t n = problem.num_nodes;
