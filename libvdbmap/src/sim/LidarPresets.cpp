@@ -25,8 +25,8 @@ LidarModel hdl64ePreset() {
 }
 
 LidarModel vls128Preset() {
-    // Velodyne VLS-128 (Alpha Prime) user manual, laser vertical-angle table, laser id 0..127
-    // in firing order (degrees). Non-uniform: densest (0.11 deg) around the horizon, +15 to -25.
+    // Velodyne VLS-128 (Alpha Prime) per-laser vertical angles, laser id 0..127 in firing
+    // order (degrees), as in the VLS128.yaml calibration of the ros-drivers/velodyne driver. Non-uniform: densest (0.11 deg) around the horizon, +15 to -25.
     static const double kElevationsDeg[128] = {
         -11.742, -1.990, 3.400,   -5.290,  -0.780, 4.610,   -4.080,  1.310,   //
         -6.500,  -1.110, 4.280,   -4.410,  0.100,  6.480,   -3.200,  2.190,   //
