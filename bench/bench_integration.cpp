@@ -123,6 +123,7 @@ int main(int argc, char** argv) {
             points += s.points_integrated;
         }
         const double seconds = total.elapsedSeconds();
+        const double leaves_before_finalize = static_cast<double>(map.tsdf()->tree().leafCount());
         Timer tf;
         integrator.finalize();
         const double finalize_s = tf.elapsedSeconds();
@@ -134,6 +135,14 @@ int main(int argc, char** argv) {
         const double active = static_cast<double>(map.tsdf()->activeVoxelCount());
         const double leaves = static_cast<double>(map.tsdf()->tree().leafCount());
         const double grid_bytes = static_cast<double>(map.tsdf()->memUsage() + map.weight()->memUsage());
+        // Active voxels per leaf: how full the allocated 8^3 leaves are.
+        std::vector<int> fill;
+        for (auto leaf = map.tsdf()->tree().cbeginLeaf(); leaf; ++leaf)
+            fill.push_back(static_cast<int>(leaf->onVoxelCount()));
+        std::sort(fill.begin(), fill.end());
+        auto fillAt = [&](double q) {
+            return fill.empty() ? 0 : fill[static_cast<std::size_t>(q * (fill.size() - 1))];
+        };
         nlohmann::json j;
         j["mode"] = mode;
         j["threads"] = threads;
@@ -144,6 +153,10 @@ int main(int argc, char** argv) {
         j["points"] = points;
         j["points_per_scan"] = static_cast<double>(points) / num_scans;
         j["voxel_updates"] = integrator.totals().voxel_updates;
+        j["phase_bin_s"] = integrator.totals().bin_s;
+        j["phase_stats_s"] = integrator.totals().stats_s;
+        j["phase_alloc_s"] = integrator.totals().alloc_s;
+        j["phase_update_s"] = integrator.totals().update_s;
         j["seconds"] = seconds;
         j["mpts_per_s"] = 1e-6 * static_cast<double>(points) / seconds;
         j["ns_per_voxel_update"] = 1e9 * seconds / static_cast<double>(integrator.totals().voxel_updates);
@@ -154,6 +167,8 @@ int main(int argc, char** argv) {
         j["vertices"] = mesh_stats.vertices;
         j["active_voxels"] = active;
         j["leaves"] = leaves;
+        j["leaves_before_finalize"] = leaves_before_finalize;
+        j["leaf_fill_p10_p50_p90"] = {fillAt(0.1), fillAt(0.5), fillAt(0.9)};
         j["bytes_per_active_voxel"] = grid_bytes / active;
         j["bytes_per_leaf_grids"] = grid_bytes / leaves;
         j["bytes_per_leaf_stats"] = map.blockStats().bytesPerBlock();

@@ -4,15 +4,18 @@
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Prune.h>
 #include <openvdb/tree/LeafManager.h>
+#include <openvdb/tree/ValueAccessor.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <sstream>
 
 #include "map/RayTraversal.h"
+#include "map/TsdfLeafCache.h"
 #include "vdbmap/Error.h"
 #include "vdbmap/Version.h"
 #include "vdbmap/map/BlockStats.h"
@@ -33,35 +36,70 @@ enum PointStatus : std::uint8_t { kValid = 0, kNonFinite = 1, kAtOrigin = 2, kRa
 int floorDiv(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
 int mod3(int a) { return ((a % 3) + 3) % 3; }
 
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point t0) {
+    return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
 /// The points of one block in this scan (a range of `order`) and what phase 2 derived.
 struct LocalBlock {
     std::int32_t slot = -1;  ///< index into BlockStatsGrid
     std::uint32_t begin = 0, end = 0;
-    std::vector<Coord> leaves;  ///< TSDF leaf origins the block's updates may touch
     Vec3d normal = Vec3d::Zero();  ///< normal used for the block's points (zero: ray direction)
     std::uint64_t sort_key = 0;  ///< (colour, cell) for phase 3
 };
 
-/// Two-leaf cache for the tsdf and weight trees (same topology). Leaves exist (phase 3a).
-struct LeafCache {
-    openvdb::FloatTree& tsdf;
-    openvdb::FloatTree& weight;
-    Coord origin = Coord::max();
-    FloatLeaf* t = nullptr;
-    FloatLeaf* w = nullptr;
+/// The TSDF leaves around a block that its points' updates can reach: a cube of
+/// (2 R + 1)^3 leaves centred on the block's own leaf, one bit each.
+struct LeafNeighbourhood {
+    int radius = 1;  ///< R, in leaves
+    int side = 3;    ///< 2 R + 1
+    std::size_t words = 1;  ///< 64-bit words per block
 
-    bool fetch(const Coord& ijk) {
-        const Coord o = ijk & ~7;
-        if (o != origin) {
-            origin = o;
-            t = tsdf.probeLeaf(o);
-            w = weight.probeLeaf(o);
-        }
-        return t != nullptr && w != nullptr;
+    explicit LeafNeighbourhood(int reach_vox)
+        : radius(std::max(1, (reach_vox + 7) / 8)),
+          side(2 * radius + 1),
+          words((static_cast<std::size_t>(side) * side * side + 63) / 64) {}
+
+    /// Bit of the leaf at block-relative leaf offset (dx, dy, dz), each in [-R, R].
+    std::size_t bit(int dx, int dy, int dz) const {
+        return static_cast<std::size_t>(((dx + radius) * side + (dy + radius)) * side + (dz + radius));
+    }
+    /// Origin (voxels) of the leaf of bit `b` around block `bc`.
+    Coord origin(const Coord& bc, std::size_t b) const {
+        const int i = static_cast<int>(b);
+        const int dz = i % side - radius, dy = (i / side) % side - radius,
+                  dx = i / (side * side) - radius;
+        return Coord((bc.x() + dx) * 8, (bc.y() + dy) * 8, (bc.z() + dz) * 8);
     }
 };
 
+template <typename Visit>
+void forEachBit(const std::uint64_t* words, std::size_t n_words, Visit&& visit) {
+    for (std::size_t w = 0; w < n_words; ++w)
+        for (std::uint64_t bits = words[w]; bits != 0; bits &= bits - 1)
+            visit(w * 64 + static_cast<std::size_t>(__builtin_ctzll(bits)));
+}
+
 }  // namespace
+
+/// Per-scan buffers of integrateScan, kept between scans.
+struct AtsdfIntegrator::Scratch {
+    std::vector<Vec3f> points_W;             ///< the LiDAR-frame overload's transformed points
+    std::vector<std::uint8_t> status;        ///< PointStatus per point
+    std::vector<Coord> block_of;             ///< block of each valid point
+    std::vector<std::int32_t> slot_of;       ///< its BlockStatsGrid slot (-1: not yet created)
+    std::vector<std::int32_t> local_of_point;
+    std::vector<std::int32_t> local_of_slot;  ///< block slot -> local index (-1 between scans)
+    std::vector<LocalBlock> local;
+    std::vector<std::uint32_t> count;
+    std::vector<std::uint32_t> order;
+    std::vector<std::uint64_t> leaf_bits;     ///< LeafNeighbourhood bits per local block
+    std::vector<std::uint64_t> missing_bits;  ///< those of leaves not allocated yet
+    std::vector<std::uint32_t> by_cell;
+    std::vector<std::uint32_t> cell_begin;
+    std::vector<std::size_t> updates_per_cell;
+};
 
 IntegrationStats& IntegrationStats::operator+=(const IntegrationStats& o) {
     scans += o.scans;
@@ -72,6 +110,10 @@ IntegrationStats& IntegrationStats::operator+=(const IntegrationStats& o) {
     dropped_range += o.dropped_range;
     voxel_updates += o.voxel_updates;
     carving_updates += o.carving_updates;
+    bin_s += o.bin_s;
+    stats_s += o.stats_s;
+    alloc_s += o.alloc_s;
+    update_s += o.update_s;
     return *this;
 }
 
@@ -92,13 +134,16 @@ void validateAtsdfConfig(const AtsdfConfig& c, const std::string& who) {
 }
 
 AtsdfIntegrator::AtsdfIntegrator(VoxelMap& map, const AtsdfConfig& config)
-    : map_(map), config_(config) {
+    : map_(map), config_(config), scratch_(std::make_unique<Scratch>()) {
     validateAtsdfConfig(config_, "integrate.atsdf");
 }
 
+AtsdfIntegrator::~AtsdfIntegrator() = default;
+
 IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points_L,
                                                 const Isometry3d& T_W_L) {
-    std::vector<Vec3f> points_W(points_L.size());
+    std::vector<Vec3f>& points_W = scratch_->points_W;
+    points_W.resize(points_L.size());
     const Eigen::Isometry3f T = T_W_L.cast<float>();
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points_L.size(), kPointChunk),
                       [&](const tbb::blocked_range<std::size_t>& r) {
@@ -119,104 +164,131 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
         totals_ += st;
         return st;
     }
+    Scratch& s = *scratch_;
     const double vs = map_.voxelSize();
     const double inv_vs = 1.0 / vs;
     const TruncationParams& trunc = config_.truncation;
     BlockStatsGrid& blocks = map_.blockStats();
+    auto t0 = Clock::now();
 
-    // ---- Phase 1: classify points (parallel), bin them by block in scan order (serial).
-    std::vector<std::uint8_t> status(n_points);
-    std::vector<Coord> block_of(n_points);
+    // ---- Phase 1: classify the points and look up their blocks (parallel, read-only), then
+    // create the new blocks and bin the points by block in scan order (serial, no tree walks
+    // for blocks that already exist).
+    s.status.resize(n_points);
+    s.block_of.resize(n_points);
+    s.slot_of.resize(n_points);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n_points, kPointChunk),
                       [&](const tbb::blocked_range<std::size_t>& r) {
-                          for (std::size_t i = r.begin(); i < r.end(); ++i) {
-                              const Vec3d p = points_W[i].cast<double>();
-                              if (!p.allFinite()) {
-                                  status[i] = kNonFinite;
-                                  continue;
-                              }
-                              const double range = (p - origin_W).norm();
-                              if (range < config_.min_range_m) {
-                                  status[i] = kAtOrigin;
-                              } else if (range > config_.max_range_m) {
-                                  status[i] = kRange;
-                              } else {
-                                  status[i] = kValid;
-                                  block_of[i] = BlockStatsGrid::blockOf(detail::voxelOf(p, inv_vs));
-                              }
-                          }
-                      });
-    std::vector<std::int32_t> local_of_point(n_points, -1);
-    std::vector<LocalBlock> local;
-    std::vector<std::uint32_t> count;
+        openvdb::tree::ValueAccessor<const openvdb::Int32Tree, false> index(blocks.indexTree());
+        for (std::size_t i = r.begin(); i < r.end(); ++i) {
+            const Vec3d p = points_W[i].cast<double>();
+            if (!p.allFinite()) {
+                s.status[i] = kNonFinite;
+                continue;
+            }
+            const double range = (p - origin_W).norm();
+            if (range < config_.min_range_m) {
+                s.status[i] = kAtOrigin;
+            } else if (range > config_.max_range_m) {
+                s.status[i] = kRange;
+            } else {
+                s.status[i] = kValid;
+                s.block_of[i] = BlockStatsGrid::blockOf(detail::voxelOf(p, inv_vs));
+                s.slot_of[i] = index.getValue(s.block_of[i]);
+            }
+        }
+    });
+    s.local_of_point.assign(n_points, -1);
+    s.local.clear();
+    s.count.clear();
     {
-        local_of_slot_.resize(blocks.size(), -1);
+        s.local_of_slot.resize(blocks.size(), -1);
         Coord prev_block = Coord::max();
-        std::int32_t prev_local = -1;
+        std::int32_t prev_slot = -1;
         for (std::size_t i = 0; i < n_points; ++i) {
-            switch (status[i]) {
+            switch (s.status[i]) {
                 case kNonFinite: ++st.dropped_non_finite; continue;
                 case kAtOrigin: ++st.dropped_at_origin; continue;
                 case kRange: ++st.dropped_range; continue;
                 default: break;
             }
-            if (block_of[i] != prev_block) {
-                prev_block = block_of[i];
-                const std::int32_t slot = blocks.findOrCreate(prev_block);
-                if (static_cast<std::size_t>(slot) >= local_of_slot_.size())
-                    local_of_slot_.resize(static_cast<std::size_t>(slot) + 1, -1);
-                std::int32_t& l = local_of_slot_[static_cast<std::size_t>(slot)];
-                if (l < 0) {
-                    l = static_cast<std::int32_t>(local.size());
-                    local.emplace_back();
-                    local.back().slot = slot;
-                    count.push_back(0);
+            std::int32_t slot = s.slot_of[i];
+            if (slot < 0) {  // a block first seen in this scan: created once, in scan order
+                if (s.block_of[i] != prev_block) {
+                    prev_block = s.block_of[i];
+                    prev_slot = blocks.findOrCreate(prev_block);
                 }
-                prev_local = l;
+                slot = prev_slot;
+                if (static_cast<std::size_t>(slot) >= s.local_of_slot.size())
+                    s.local_of_slot.resize(static_cast<std::size_t>(slot) + 1, -1);
             }
-            local_of_point[i] = prev_local;
-            ++count[static_cast<std::size_t>(prev_local)];
+            std::int32_t& l = s.local_of_slot[static_cast<std::size_t>(slot)];
+            if (l < 0) {
+                l = static_cast<std::int32_t>(s.local.size());
+                s.local.emplace_back();
+                s.local.back().slot = slot;
+                s.count.push_back(0);
+            }
+            s.local_of_point[i] = l;
+            ++s.count[static_cast<std::size_t>(l)];
         }
-        for (const LocalBlock& b : local) local_of_slot_[static_cast<std::size_t>(b.slot)] = -1;
+        for (const LocalBlock& b : s.local) s.local_of_slot[static_cast<std::size_t>(b.slot)] = -1;
     }
     st.points_integrated = n_points - st.dropped_non_finite - st.dropped_at_origin - st.dropped_range;
+    std::vector<LocalBlock>& local = s.local;
     if (local.empty()) {
+        st.bin_s = secondsSince(t0);
         totals_ += st;
         return st;
     }
     // Counting sort: `order` lists the valid points grouped by block, in scan order.
-    std::vector<std::uint32_t> order(st.points_integrated);
+    std::vector<std::uint32_t>& order = s.order;
+    order.resize(st.points_integrated);
     {
         std::uint32_t offset = 0;
         for (std::size_t b = 0; b < local.size(); ++b) {
             local[b].begin = offset;
             local[b].end = offset;
-            offset += count[b];
+            offset += s.count[b];
         }
         for (std::size_t i = 0; i < n_points; ++i) {
-            const std::int32_t l = local_of_point[i];
+            const std::int32_t l = s.local_of_point[i];
             if (l >= 0) order[local[static_cast<std::size_t>(l)].end++] = static_cast<std::uint32_t>(i);
         }
     }
+    st.bin_s = secondsSince(t0);
+    t0 = Clock::now();
 
     // ---- Phase 2 (parallel over blocks): merge statistics (Eq. 1), plane (Eq. 2, 3), eps (Eq. 4),
     // and the leaves the block's updates can touch.
-    const double reach_m = trunc.max_m;
+    // Update reach in voxels: eps_max, one voxel of rounding at each end, one voxel of margin.
+    const int reach_vox = static_cast<int>(std::ceil(trunc.max_m * inv_vs)) + 2;
+    const LeafNeighbourhood hood(reach_vox);
+    s.leaf_bits.assign(local.size() * hood.words, 0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, local.size(), 16),
                       [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t b = r.begin(); b < r.end(); ++b) {
             LocalBlock& lb = local[b];
             BlockEntry& entry = blocks.entry(lb.slot);
+            // Batch statistics of this scan's points in one pass, shifted by the first point
+            // (exact up to rounding, no cancellation: the points lie within one block).
             BlockStats batch;
             batch.n = static_cast<double>(lb.end - lb.begin);
-            for (std::uint32_t k = lb.begin; k < lb.end; ++k) batch.mean += points_W[order[k]].cast<double>();
-            batch.mean /= batch.n;
+            const Vec3d shift = points_W[order[lb.begin]].cast<double>();
+            Vec3d sum = Vec3d::Zero();
+            double sxx = 0, sxy = 0, sxz = 0, syy = 0, syz = 0, szz = 0;
+            for (std::uint32_t k = lb.begin; k < lb.end; ++k) {
+                const Vec3d d = points_W[order[k]].cast<double>() - shift;
+                sum += d;
+                sxx += d.x() * d.x(); sxy += d.x() * d.y(); sxz += d.x() * d.z();
+                syy += d.y() * d.y(); syz += d.y() * d.z(); szz += d.z() * d.z();
+            }
+            const Vec3d mean_shifted = sum / batch.n;
+            batch.mean = shift + mean_shifted;
             if (batch.n > 1.0) {
-                for (std::uint32_t k = lb.begin; k < lb.end; ++k) {
-                    const Vec3d d = points_W[order[k]].cast<double>() - batch.mean;
-                    batch.cov.noalias() += d * d.transpose();
-                }
-                batch.cov /= (batch.n - 1.0);
+                Mat3d scatter;
+                scatter << sxx, sxy, sxz, sxy, syy, syz, sxz, syz, szz;
+                batch.cov = (scatter - batch.n * mean_shifted * mean_shifted.transpose()) / (batch.n - 1.0);
             }
             entry.stats = mergeStats(entry.stats, batch);
             // A patch narrower than a quarter voxel (std. dev.) is not trusted for a normal.
@@ -226,22 +298,31 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
             entry.normal_W = plane.normal.cast<float>();
             entry.flatness = static_cast<float>(plane.flatness);
             entry.truncation_m = static_cast<float>(truncationFor(trunc, plane, entry.stats.n));
-            // Leaves of each point's update segment [r - eps, r + eps] (+1 voxel margin).
+            // Leaves of each point's update segment [r - eps, r + eps], as bits of the block's
+            // leaf neighbourhood (eps <= eps_max keeps them inside it). The traversal starts in
+            // the voxel of the start point (same expression as in phase 3) and stops in the
+            // voxel of the end point; the end is pushed out by 1e-6 voxel so that a rounding
+            // difference between the two cannot reach a leaf that is not allocated.
             const double eps = entry.truncation_m;
-            lb.leaves.clear();
+            const Coord bc = blocks.blockCoord(lb.slot);
+            std::uint64_t* bits = s.leaf_bits.data() + b * hood.words;
+            const std::size_t own_bit = hood.bit(0, 0, 0);
             for (std::uint32_t k = lb.begin; k < lb.end; ++k) {
                 const Vec3d p = points_W[order[k]].cast<double>();
                 const Vec3d dir = (p - origin_W).normalized();
                 const Coord c0 = detail::voxelOf(p - dir * eps, inv_vs);
-                const Coord c1 = detail::voxelOf(p + dir * eps, inv_vs);
-                const Coord lo = Coord::minComponent(c0, c1).offsetBy(-1);
-                const Coord hi = Coord::maxComponent(c0, c1).offsetBy(1);
-                for (int x = lo.x() & ~7; x <= hi.x(); x += 8)
-                    for (int y = lo.y() & ~7; y <= hi.y(); y += 8)
-                        for (int z = lo.z() & ~7; z <= hi.z(); z += 8) {
-                            const Coord o(x, y, z);
-                            if (std::find(lb.leaves.begin(), lb.leaves.end(), o) == lb.leaves.end())
-                                lb.leaves.push_back(o);
+                const Coord c1 = detail::voxelOf(p + dir * (eps + 1e-6 * vs), inv_vs);
+                const Coord lo = BlockStatsGrid::blockOf(Coord::minComponent(c0, c1)) - bc;
+                const Coord hi = BlockStatsGrid::blockOf(Coord::maxComponent(c0, c1)) - bc;
+                if (lo == Coord(0) && hi == Coord(0)) {  // the common case: inside the own leaf
+                    bits[own_bit / 64] |= std::uint64_t{1} << (own_bit % 64);
+                    continue;
+                }
+                for (int x = std::max(lo.x(), -hood.radius); x <= std::min(hi.x(), hood.radius); ++x)
+                    for (int y = std::max(lo.y(), -hood.radius); y <= std::min(hi.y(), hood.radius); ++y)
+                        for (int z = std::max(lo.z(), -hood.radius); z <= std::min(hi.z(), hood.radius); ++z) {
+                            const std::size_t bit = hood.bit(x, y, z);
+                            bits[bit / 64] |= std::uint64_t{1} << (bit % 64);
                         }
             }
         }
@@ -253,6 +334,7 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
     // Neighbour entries are only read here (phase 2 is complete), so the result is deterministic.
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, local.size(), 16),
                       [&](const tbb::blocked_range<std::size_t>& r) {
+        openvdb::tree::ValueAccessor<const openvdb::Int32Tree, false> index(blocks.indexTree());
         for (std::size_t b = r.begin(); b < r.end(); ++b) {
             LocalBlock& lb = local[b];
             const BlockEntry& entry = blocks.entry(lb.slot);
@@ -265,7 +347,7 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
             for (int dx = -1; dx <= 1; ++dx)
                 for (int dy = -1; dy <= 1; ++dy)
                     for (int dz = -1; dz <= 1; ++dz) {
-                        const std::int32_t nb = blocks.find(bc.offsetBy(dx, dy, dz));
+                        const std::int32_t nb = index.getValue(bc.offsetBy(dx, dy, dz));
                         if (nb < 0) continue;
                         const BlockEntry& ne = blocks.entry(nb);
                         if (!ne.plane_valid) continue;
@@ -277,22 +359,43 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
             lb.normal = norm > 0.0 ? Vec3d(sum / norm) : Vec3d::Zero();
         }
     });
+    st.stats_s = secondsSince(t0);
+    t0 = Clock::now();
 
-    // ---- Phase 3a (serial): allocate the leaves, in the same order on both trees.
+    // ---- Phase 3a: find the leaves that do not exist yet (parallel, read-only), then allocate
+    // them (serial: tree topology changes are not thread-safe), in the same order on both trees.
     openvdb::FloatTree& tsdf_tree = map_.tsdf()->tree();
     openvdb::FloatTree& weight_tree = map_.weight()->tree();
+    s.missing_bits.assign(s.leaf_bits.size(), 0);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, local.size(), 64),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+        openvdb::tree::ValueAccessor<const openvdb::FloatTree, false> acc(tsdf_tree);
+        for (std::size_t b = r.begin(); b < r.end(); ++b) {
+            const Coord bc = blocks.blockCoord(local[b].slot);
+            const std::uint64_t* bits = s.leaf_bits.data() + b * hood.words;
+            std::uint64_t* missing = s.missing_bits.data() + b * hood.words;
+            forEachBit(bits, hood.words, [&](std::size_t bit) {
+                if (acc.probeConstLeaf(hood.origin(bc, bit)) == nullptr)
+                    missing[bit / 64] |= std::uint64_t{1} << (bit % 64);
+            });
+        }
+    });
     {
-        openvdb::FloatGrid::Accessor ta = map_.tsdf()->getAccessor();
-        openvdb::FloatGrid::Accessor wa = map_.weight()->getAccessor();
-        for (const LocalBlock& lb : local)
-            for (const Coord& o : lb.leaves) {
+        openvdb::tree::ValueAccessor<openvdb::FloatTree> ta(tsdf_tree);
+        openvdb::tree::ValueAccessor<openvdb::FloatTree> wa(weight_tree);
+        for (std::size_t b = 0; b < local.size(); ++b) {
+            const Coord bc = blocks.blockCoord(local[b].slot);
+            forEachBit(s.missing_bits.data() + b * hood.words, hood.words, [&](std::size_t bit) {
+                const Coord o = hood.origin(bc, bit);
                 ta.touchLeaf(o);
                 wa.touchLeaf(o);
-            }
+            });
+        }
     }
+    st.alloc_s = secondsSince(t0);
+    t0 = Clock::now();
 
     // ---- Phase 3b: colour the blocks by cell (cell width >= update reach) and integrate.
-    const int reach_vox = static_cast<int>(std::ceil(reach_m * inv_vs)) + 2;
     const int cell_blocks = std::max(1, (reach_vox + 7) / 8);
     for (std::size_t b = 0; b < local.size(); ++b) {
         const Coord& bc = blocks.blockCoord(local[b].slot);
@@ -304,13 +407,15 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
                                    static_cast<std::uint64_t>(cz & 0xFFFFF);
         local[b].sort_key = (colour << 60) | cell;
     }
-    std::vector<std::uint32_t> by_cell(local.size());
+    std::vector<std::uint32_t>& by_cell = s.by_cell;
+    by_cell.resize(local.size());
     for (std::size_t b = 0; b < local.size(); ++b) by_cell[b] = static_cast<std::uint32_t>(b);
     std::sort(by_cell.begin(), by_cell.end(), [&](std::uint32_t a, std::uint32_t b) {
         return local[a].sort_key != local[b].sort_key ? local[a].sort_key < local[b].sort_key : a < b;
     });
     // Cell ranges within by_cell, and the colour boundaries.
-    std::vector<std::uint32_t> cell_begin;
+    std::vector<std::uint32_t>& cell_begin = s.cell_begin;
+    cell_begin.clear();
     for (std::size_t i = 0; i < by_cell.size(); ++i)
         if (i == 0 || local[by_cell[i]].sort_key != local[by_cell[i - 1]].sort_key)
             cell_begin.push_back(static_cast<std::uint32_t>(i));
@@ -318,38 +423,25 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
 
     const float max_weight = static_cast<float>(config_.max_weight);
     const double floor_w = config_.weight_floor;
-    auto integrateCell = [&](std::size_t cell_index, LeafCache& cache) -> std::size_t {
+    auto integrateCell = [&](std::size_t cell_index, detail::TsdfLeafCache& cache) -> std::size_t {
         std::size_t updates = 0;
         for (std::uint32_t i = cell_begin[cell_index]; i < cell_begin[cell_index + 1]; ++i) {
             const LocalBlock& lb = local[by_cell[i]];
-            const BlockEntry& entry = blocks.entry(lb.slot);
-            const double eps = entry.truncation_m;
+            const double eps = blocks.entry(lb.slot).truncation_m;
+            // No normal (isolated degenerate block): the ray direction (sdf along the ray).
+            const bool has_normal = lb.normal.squaredNorm() > 0.0;
             for (std::uint32_t k = lb.begin; k < lb.end; ++k) {
                 const Vec3d p = points_W[order[k]].cast<double>();
-                const Vec3d ray = p - origin_W;
-                const Vec3d dir = ray / ray.norm();
-                // No normal (isolated degenerate block): the ray direction (sdf along the ray).
-                const bool has_normal = lb.normal.squaredNorm() > 0.0;
+                const Vec3d dir = (p - origin_W).normalized();  // as in phase 2
                 const Vec3d normal = has_normal ? lb.normal : Vec3d(-dir);
-                const double w_inc = has_normal ? incidenceWeight(normal, origin_W, p, floor_w) : 1.0;
+                // incidenceWeight(normal, origin_W, p, floor_w), from the unit ray direction.
+                const double w_inc = has_normal ? std::clamp(-normal.dot(dir), floor_w, 1.0) : 1.0;
                 detail::traverseSegment(p - dir * eps, dir, 2.0 * eps, inv_vs, [&](const Coord& v) {
                     const Vec3d centre(v.x() * vs, v.y() * vs, v.z() * vs);
-                    double sdf = normal.dot(centre - p);
-                    if (sdf > eps) sdf = eps;
-                    if (sdf < -eps) sdf = -eps;
+                    const double sdf = std::clamp(normal.dot(centre - p), -eps, eps);
                     const double w = w_inc * behindSurfaceFactor(sdf, eps, vs);
                     if (!(w > 0.0) || !cache.fetch(v)) return;
-                    const openvdb::Index off = FloatLeaf::coordToOffset(v);
-                    const float wf = static_cast<float>(w);
-                    if (cache.t->isValueOn(off)) {
-                        const float W = cache.w->getValue(off);
-                        const float D = cache.t->getValue(off);
-                        cache.t->setValueOn(off, (W * D + wf * static_cast<float>(sdf)) / (W + wf));
-                        cache.w->setValueOn(off, std::min(W + wf, max_weight));
-                    } else {
-                        cache.t->setValueOn(off, static_cast<float>(sdf));
-                        cache.w->setValueOn(off, std::min(wf, max_weight));
-                    }
+                    cache.update(v, static_cast<float>(sdf), static_cast<float>(w), max_weight);
                     ++updates;
                 });
             }
@@ -357,7 +449,7 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
         return updates;
     };
     const std::size_t num_cells = cell_begin.size() - 1;
-    std::vector<std::size_t> updates_per_cell(num_cells, 0);
+    s.updates_per_cell.assign(num_cells, 0);
     std::size_t colour_start = 0;
     while (colour_start < num_cells) {
         const std::uint64_t colour = local[by_cell[cell_begin[colour_start]]].sort_key >> 60;
@@ -367,20 +459,20 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
             ++colour_end;
         tbb::parallel_for(tbb::blocked_range<std::size_t>(colour_start, colour_end, 1),
                           [&](const tbb::blocked_range<std::size_t>& r) {
-                              LeafCache cache{tsdf_tree, weight_tree};
+                              detail::TsdfLeafCache cache(tsdf_tree, weight_tree);
                               for (std::size_t c = r.begin(); c < r.end(); ++c)
-                                  updates_per_cell[c] = integrateCell(c, cache);
+                                  s.updates_per_cell[c] = integrateCell(c, cache);
                           });
         colour_start = colour_end;
     }
-    for (std::size_t u : updates_per_cell) st.voxel_updates += u;
+    for (std::size_t u : s.updates_per_cell) st.voxel_updates += u;
 
     // ---- Optional space carving (serial, deterministic): free space in front of the band.
     if (config_.space_carving) {
-        LeafCache cache{tsdf_tree, weight_tree};
+        detail::TsdfLeafCache cache(tsdf_tree, weight_tree);
         const float free_sdf = static_cast<float>(trunc.max_m);
         for (std::size_t i = 0; i < n_points; ++i) {
-            const std::int32_t l = local_of_point[i];
+            const std::int32_t l = s.local_of_point[i];
             if (l < 0) continue;
             const double eps = blocks.entry(local[static_cast<std::size_t>(l)].slot).truncation_m;
             const Vec3d p = points_W[i].cast<double>();
@@ -389,17 +481,12 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
             if (range <= eps) continue;
             detail::traverseSegment(origin_W, ray / range, range - eps - vs, inv_vs,
                                     [&](const Coord& v) {
-                if (!cache.fetch(v)) return;
-                const openvdb::Index off = FloatLeaf::coordToOffset(v);
-                if (!cache.t->isValueOn(off)) return;
-                const float W = cache.w->getValue(off);
-                const float D = cache.t->getValue(off);
-                cache.t->setValueOn(off, (W * D + free_sdf) / (W + 1.0f));
-                cache.w->setValueOn(off, std::min(W + 1.0f, max_weight));
-                ++st.carving_updates;
+                if (cache.fetch(v) && cache.updateObserved(v, free_sdf, 1.0f, max_weight))
+                    ++st.carving_updates;
             });
         }
     }
+    st.update_s = secondsSince(t0);
     totals_ += st;
     return st;
 }

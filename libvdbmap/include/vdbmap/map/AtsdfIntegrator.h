@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,13 @@ struct IntegrationStats {
     std::size_t dropped_range = 0;
     std::size_t voxel_updates = 0;
     std::size_t carving_updates = 0;
+    /// Wall time of the phases (seconds, summed over scans): classify and bin the points;
+    /// merge the block statistics and derive plane, eps and the leaves to touch; allocate
+    /// missing leaves; the voxel updates (and space carving).
+    double bin_s = 0.0;
+    double stats_s = 0.0;
+    double alloc_s = 0.0;
+    double update_s = 0.0;
 
     IntegrationStats& operator+=(const IntegrationStats& other);
 };
@@ -67,6 +75,9 @@ class AtsdfIntegrator {
 public:
     /// The map's tsdf background should be config.truncation.max_m. Throws ConfigError.
     AtsdfIntegrator(VoxelMap& map, const AtsdfConfig& config);
+    ~AtsdfIntegrator();
+    AtsdfIntegrator(const AtsdfIntegrator&) = delete;
+    AtsdfIntegrator& operator=(const AtsdfIntegrator&) = delete;
 
     /// Integrates one scan given in the world frame, observed from `origin_W`. Empty scans are
     /// a no-op (counted). Never throws on bad points (they are counted in the stats).
@@ -86,7 +97,9 @@ private:
     VoxelMap& map_;
     AtsdfConfig config_;
     IntegrationStats totals_;
-    std::vector<std::int32_t> local_of_slot_;  ///< per-scan scratch: block slot -> local index
+    struct Scratch;
+    /// Per-scan buffers, reused across scans (no allocation or page faults in steady state).
+    std::unique_ptr<Scratch> scratch_;
 };
 
 }  // namespace vdbmap
