@@ -10,16 +10,19 @@
 
 #include "Commands.h"
 #include "vdbmap/Error.h"
+#include "vdbmap/eval/CameraCoverage.h"
 #include "vdbmap/eval/GeometryMetrics.h"
 #include "vdbmap/eval/GtViews.h"
 #include "vdbmap/eval/SemanticMetrics.h"
 #include "vdbmap/eval/TextureMetrics.h"
 #include "vdbmap/io/AtomicFile.h"
+#include "vdbmap/io/Dataset.h"
 #include "vdbmap/io/Image.h"
 #include "vdbmap/io/LabelSet.h"
 #include "vdbmap/io/MeshIO.h"
 #include "vdbmap/io/PointCloudIO.h"
 #include "vdbmap/render/Raycaster.h"
+#include "vdbmap/render/Visibility.h"
 #include "vdbmap/sim/SimScene.h"
 
 namespace fs = std::filesystem;
@@ -31,9 +34,11 @@ struct EvalArgs {
     std::string run_dir;
     std::string json_path;
     std::string error_ply;
+    std::string seq_dir;
     std::string tau = "0.05,0.1,0.2";
     double cutoff_m = 0.5;
     double sample_spacing_m = 0.02;
+    double stack_tolerance_m = 0.01;
     std::vector<int> classes;
     bool quiet = false;
 };
@@ -70,6 +75,47 @@ std::array<std::uint8_t, 3> errorColor(float e, float max_e) {
 nlohmann::json statsJson(const vdbmap::DistanceStats& s) {
     return {{"count", s.count}, {"mean_m", s.mean}, {"median_m", s.median},
             {"p90_m", s.p90},   {"max_m", s.max},   {"rms_m", s.rms}};
+}
+
+nlohmann::json semanticJson(const vdbmap::SemanticMetrics& s) {
+    const vdbmap::LabelSet label_set = vdbmap::LabelSet::defaults();
+    nlohmann::json j;
+    j["overall_accuracy"] = s.overall_accuracy;
+    j["mean_class_accuracy"] = s.mean_class_accuracy;
+    j["miou"] = s.miou;
+    j["unlabelled_fraction"] = s.unlabelled_fraction;
+    j["matched_area_m2"] = s.matched_area_m2;
+    j["unmatched_area_m2"] = s.unmatched_area_m2;
+    j["classes"] = nlohmann::json::array();
+    for (const auto& c : s.classes) {
+        j["classes"].push_back({{"id", c.id},
+                                {"name", label_set.name(c.id)},
+                                {"area_m2", c.gt_area_m2},
+                                {"accuracy", c.accuracy},
+                                {"iou", c.iou}});
+    }
+    return j;
+}
+
+// Prediction faces whose ground-truth point some input camera of the sequence (every camera
+// folder with images, all frames) sees; the sequence is read as a KITTI layout.
+std::vector<std::uint8_t> cameraSeenFaces(
+    const fs::path& seq, const vdbmap::GtLabelTransfer& transfer,
+    const std::vector<vdbmap::Vec3f>& gt_vertices,
+    const std::vector<std::array<std::uint32_t, 3>>& gt_triangles, const vdbmap::Raycaster& gt_rc) {
+    vdbmap::DatasetConfig config;
+    config.format = "kitti";
+    config.path = fs::absolute(seq).string();
+    const auto dataset = vdbmap::Dataset::open(config);
+    const std::vector<vdbmap::View> views = vdbmap::datasetViews(*dataset, true, false);
+    std::vector<vdbmap::Vec3f> normals(transfer.gt_face.size(), vdbmap::Vec3f::UnitZ());
+    for (std::size_t f = 0; f < normals.size(); ++f) {
+        const auto& t = gt_triangles[transfer.gt_face[f]];
+        const vdbmap::Vec3f n = (gt_vertices[t[1]] - gt_vertices[t[0]])
+                                    .cross(gt_vertices[t[2]] - gt_vertices[t[0]]);
+        if (n.norm() > 0.0f) normals[f] = n.normalized();
+    }
+    return vdbmap::pointsSeenByViews(transfer.gt_point_W, normals, views, gt_rc);
 }
 
 void runEval(const EvalArgs& args, int& exit_code) {
@@ -199,29 +245,37 @@ void runEval(const EvalArgs& args, int& exit_code) {
         for (std::uint32_t f : sf) tri_labels.push_back(labels[f]);
         std::vector<std::uint8_t> gt_tri_labels;
         for (std::uint32_t f : gt_face_index) gt_tri_labels.push_back(gt_labels[f]);
-        const vdbmap::SemanticMetrics s =
-            vdbmap::evaluateSemantics(sv, st, tri_labels, gt_rc, gt_tri_labels, args.cutoff_m);
-        const vdbmap::LabelSet label_set = vdbmap::LabelSet::defaults();
-        nlohmann::json j;
+        const vdbmap::GtLabelTransfer transfer = vdbmap::transferGtLabels(
+            sv, st, gt_rc, gt_tri_labels, args.cutoff_m, args.stack_tolerance_m);
+        const vdbmap::SemanticMetrics s = vdbmap::scoreSemantics(transfer, tri_labels);
+        nlohmann::json j = semanticJson(s);
         j["mesh"] = sem_path.string();
-        j["overall_accuracy"] = s.overall_accuracy;
-        j["mean_class_accuracy"] = s.mean_class_accuracy;
-        j["miou"] = s.miou;
-        j["unlabelled_fraction"] = s.unlabelled_fraction;
-        j["matched_area_m2"] = s.matched_area_m2;
-        j["unmatched_area_m2"] = s.unmatched_area_m2;
-        for (const auto& c : s.classes) {
-            j["classes"].push_back({{"id", c.id},
-                                    {"name", label_set.name(c.id)},
-                                    {"area_m2", c.gt_area_m2},
-                                    {"accuracy", c.accuracy},
-                                    {"iou", c.iou}});
-        }
-        report["semantics"] = j;
-        table << std::setprecision(4) << "semantics\n"
+        j["stack_tolerance_m"] = args.stack_tolerance_m;
+        j["faces_labelled_by_outer_stacked_surface"] = transfer.stacked_resolved;
+        table << std::setprecision(4) << "semantics (all area)\n"
               << "  overall accuracy " << s.overall_accuracy << "  mean class accuracy "
               << s.mean_class_accuracy << "  mIoU " << s.miou << "  unlabelled "
               << s.unlabelled_fraction << "\n";
+        const fs::path seq = args.seq_dir.empty() ? gt.parent_path() : fs::path(args.seq_dir);
+        if (fs::exists(seq / "calib.txt") && fs::exists(seq / "poses.txt")) {
+            const std::vector<std::uint8_t> seen =
+                cameraSeenFaces(seq, transfer, gt_vertices, gt_triangles, gt_rc);
+            const vdbmap::SemanticMetrics o = vdbmap::scoreSemantics(transfer, tri_labels, &seen);
+            nlohmann::json jo = semanticJson(o);
+            jo["sequence"] = seq.string();
+            jo["seen_fraction"] = s.matched_area_m2 > 0 ? o.matched_area_m2 / s.matched_area_m2 : 0.0;
+            j["camera_seen"] = jo;
+            table << "semantics (camera-seen area, " << 100.0 * jo["seen_fraction"].get<double>()
+                  << " % of the matched area)\n"
+                  << "  overall accuracy " << o.overall_accuracy << "  mean class accuracy "
+                  << o.mean_class_accuracy << "  mIoU " << o.miou << "  unlabelled "
+                  << o.unlabelled_fraction << "\n";
+        } else {
+            table << "semantics (camera-seen area): skipped (no calib.txt + poses.txt in "
+                  << seq.string() << ")\n";
+            j["camera_seen"] = nullptr;
+        }
+        report["semantics"] = j;
     } else {
         table << "semantics: skipped ("
               << (gt_labels.empty() ? gt_mesh_path.string() + " has no face labels"
@@ -290,6 +344,13 @@ void addEvalCommand(CLI::App& app, int& exit_code) {
         ->capture_default_str();
     cmd->add_option("--sample-spacing", args->sample_spacing_m,
                     "Sample spacing (m) on the run's mesh for accuracy")
+        ->capture_default_str();
+    cmd->add_option("--seq", args->seq_dir,
+                    "Sequence folder whose cameras define the camera-seen area of the semantic "
+                    "scores (default: the parent of --gt)");
+    cmd->add_option("--stack-tolerance", args->stack_tolerance_m,
+                    "Ground-truth surfaces stacked closer than this (m, e.g. a lane marking on "
+                    "the asphalt): the outer one along the face normal labels the face")
         ->capture_default_str();
     cmd->add_option("--classes", args->classes,
                     "Score geometry only where the nearest ground-truth face has one of these "

@@ -77,3 +77,60 @@ TEST_CASE("Prediction far from the ground truth is unmatched", "[eval][semantic]
     std::vector<std::uint8_t> short_labels(3, 0);
     CHECK_THROWS_AS(evaluateSemantics(g.v, g.t, short_labels, gt, g.labels), InvalidInput);
 }
+
+TEST_CASE("A marking stacked on the asphalt labels the faces above it", "[eval][semantic]") {
+    // Ground truth: asphalt (0) at z = 0 and a marking strip (19) 5 mm above it over x in
+    // [4, 6]. The prediction is the plane z = 1 mm (a marking face whose centroid is nearer the
+    // asphalt, as a reconstruction at 5 cm voxels gives), labelled right everywhere.
+    Grid asphalt = grid(10);
+    for (auto& l : asphalt.labels) l = 0;
+    Grid gt = asphalt;
+    const std::uint32_t base = static_cast<std::uint32_t>(gt.v.size());
+    for (const Vec3f& p : {Vec3f(4, 0, 0.005f), Vec3f(6, 0, 0.005f), Vec3f(6, 10, 0.005f),
+                           Vec3f(4, 10, 0.005f)}) {
+        gt.v.push_back(p);
+    }
+    gt.t.push_back({base, base + 1, base + 2});
+    gt.t.push_back({base, base + 2, base + 3});
+    gt.labels.insert(gt.labels.end(), {19, 19});
+    const Raycaster gt_rc(gt.v, gt.t);
+    Grid pred = asphalt;
+    for (auto& p : pred.v) p.z() = 0.001f;
+    for (std::size_t f = 0; f < pred.t.size(); ++f) {
+        const Vec3f c = (pred.v[pred.t[f][0]] + pred.v[pred.t[f][1]] + pred.v[pred.t[f][2]]) / 3;
+        pred.labels[f] = c.x() > 4 && c.x() < 6 ? 19 : 0;
+    }
+    const GtLabelTransfer stacked = transferGtLabels(pred.v, pred.t, gt_rc, gt.labels, 0.5, 0.01);
+    CHECK(stacked.stacked_resolved == 40);  // 2 columns x 10 rows x 2 triangles
+    const SemanticMetrics m = scoreSemantics(stacked, pred.labels);
+    CHECK(m.overall_accuracy == Approx(1.0));
+    // The plain nearest-face transfer scores every marking face against the asphalt.
+    const GtLabelTransfer nearest = transferGtLabels(pred.v, pred.t, gt_rc, gt.labels, 0.5, 0.0);
+    CHECK(nearest.stacked_resolved == 0);
+    CHECK(scoreSemantics(nearest, pred.labels).overall_accuracy == Approx(0.8));
+    // A surface farther than the tolerance is not preferred: the plane 2 cm below the asphalt.
+    Grid low = pred;
+    for (auto& p : low.v) p.z() = -0.02f;
+    const GtLabelTransfer deep = transferGtLabels(low.v, low.t, gt_rc, gt.labels, 0.5, 0.004);
+    CHECK(deep.stacked_resolved == 0);
+}
+
+TEST_CASE("Scores on a face mask leave the other faces out", "[eval][semantic]") {
+    const Grid g = grid(10);
+    const Raycaster gt(g.v, g.t);
+    const GtLabelTransfer t = transferGtLabels(g.v, g.t, gt, g.labels);
+    std::vector<std::uint8_t> pred = g.labels;
+    std::vector<std::uint8_t> mask(pred.size(), 1);
+    // Rows 0-2 wrong (30 % of the area) and outside the mask; row 3 wrong inside it.
+    for (std::size_t f = 0; f < 80; ++f) pred[f] = 255;
+    for (std::size_t f = 0; f < 60; ++f) mask[f] = 0;
+    const SemanticMetrics all = scoreSemantics(t, pred);
+    const SemanticMetrics masked = scoreSemantics(t, pred, &mask);
+    CHECK(all.overall_accuracy == Approx(0.6));
+    CHECK(all.matched_area_m2 == Approx(100.0));
+    CHECK(masked.matched_area_m2 == Approx(70.0));
+    CHECK(masked.overall_accuracy == Approx(60.0 / 70.0));
+    CHECK(masked.unlabelled_fraction == Approx(10.0 / 70.0));
+    std::vector<std::uint8_t> short_mask(3, 1);
+    CHECK_THROWS_AS(scoreSemantics(t, pred, &short_mask), InvalidInput);
+}

@@ -11,54 +11,88 @@
 
 namespace vdbmap {
 
-SemanticMetrics evaluateSemantics(const std::vector<Vec3f>& pred_vertices,
-                                  const std::vector<std::array<std::uint32_t, 3>>& pred_triangles,
-                                  const std::vector<std::uint8_t>& pred_labels,
-                                  const Raycaster& gt, const std::vector<std::uint8_t>& gt_labels,
-                                  double max_distance_m) {
-    if (pred_labels.size() != pred_triangles.size()) {
-        throw InvalidInput("evaluateSemantics: " + std::to_string(pred_labels.size()) +
-                           " prediction labels for " + std::to_string(pred_triangles.size()) +
-                           " faces");
-    }
+GtLabelTransfer transferGtLabels(const std::vector<Vec3f>& pred_vertices,
+                                 const std::vector<std::array<std::uint32_t, 3>>& pred_triangles,
+                                 const Raycaster& gt, const std::vector<std::uint8_t>& gt_labels,
+                                 double max_distance_m, double stack_tolerance_m) {
     if (gt_labels.size() != gt.numTriangles()) {
         throw InvalidInput("evaluateSemantics: " + std::to_string(gt_labels.size()) +
                            " ground-truth labels for " + std::to_string(gt.numTriangles()) +
                            " faces");
     }
-    // Nearest ground-truth face per prediction face (parallel), then a sequential,
-    // deterministic area-weighted confusion matrix.
-    std::vector<int> gt_label_of(pred_triangles.size(), -1);
-    std::vector<double> area(pred_triangles.size(), 0.0);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pred_triangles.size(), 256),
+    const std::size_t n = pred_triangles.size();
+    GtLabelTransfer t;
+    t.label.assign(n, -1);
+    t.area_m2.assign(n, 0.0);
+    t.gt_point_W.assign(n, Vec3f::Zero());
+    t.gt_face.assign(n, 0);
+    std::vector<std::uint8_t> resolved(n, 0);
+    const float stack_m = static_cast<float>(stack_tolerance_m);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 256),
                       [&](const tbb::blocked_range<std::size_t>& r) {
-                          for (std::size_t f = r.begin(); f != r.end(); ++f) {
-                              const auto& t = pred_triangles[f];
-                              const Vec3f& a = pred_vertices[t[0]];
-                              const Vec3f& b = pred_vertices[t[1]];
-                              const Vec3f& c = pred_vertices[t[2]];
-                              area[f] = 0.5 * static_cast<double>((b - a).cross(c - a).norm());
-                              const Vec3f centroid = (a + b + c) / 3.0f;
-                              if (auto cp = gt.closestPoint(centroid,
-                                                            static_cast<float>(max_distance_m))) {
-                                  gt_label_of[f] = gt_labels[cp->face];
-                              }
-                          }
-                      });
+        for (std::size_t f = r.begin(); f != r.end(); ++f) {
+            const auto& tri = pred_triangles[f];
+            const Vec3f& a = pred_vertices[tri[0]];
+            const Vec3f& b = pred_vertices[tri[1]];
+            const Vec3f& c = pred_vertices[tri[2]];
+            const Vec3f cross = (b - a).cross(c - a);
+            const float cross_norm = cross.norm();
+            t.area_m2[f] = 0.5 * static_cast<double>(cross_norm);
+            const Vec3f centroid = (a + b + c) / 3.0f;
+            const auto cp = gt.closestPoint(centroid, static_cast<float>(max_distance_m));
+            if (!cp) continue;
+            t.label[f] = gt_labels[cp->face];
+            t.gt_point_W[f] = cp->point;
+            t.gt_face[f] = cp->face;
+            if (!(stack_m > 0.0f) || !(cross_norm > 0.0f)) continue;
+            // Stacked surfaces: look at the ground truth from outside along the face normal.
+            const Vec3f n_unit = cross / cross_norm;
+            const float reach = cp->distance + stack_m;
+            const auto hit = gt.intersect(centroid + reach * n_unit, -n_unit, 0.0f, 2.0f * reach);
+            if (!hit || hit->face == cp->face) continue;
+            // Within 2 * reach of the start, so at most stack_m farther than the nearest.
+            const Vec3f p = centroid + (reach - hit->distance) * n_unit;
+            if (gt_labels[hit->face] != gt_labels[cp->face]) resolved[f] = 1;
+            t.label[f] = gt_labels[hit->face];
+            t.gt_point_W[f] = p;
+            t.gt_face[f] = hit->face;
+        }
+    });
+    for (std::uint8_t r : resolved) t.stacked_resolved += r;
+    return t;
+}
+
+SemanticMetrics scoreSemantics(const GtLabelTransfer& transfer,
+                               const std::vector<std::uint8_t>& pred_labels,
+                               const std::vector<std::uint8_t>* mask) {
+    const std::size_t n = transfer.label.size();
+    if (pred_labels.size() != n || transfer.area_m2.size() != n) {
+        throw InvalidInput("evaluateSemantics: " + std::to_string(pred_labels.size()) +
+                           " prediction labels for " + std::to_string(n) + " faces");
+    }
+    if (mask != nullptr && mask->size() != n) {
+        throw InvalidInput("evaluateSemantics: face mask of size " +
+                           std::to_string(mask->size()) + " for " + std::to_string(n) +
+                           " faces");
+    }
+    // Sequential, deterministic area-weighted confusion matrix.
     std::vector<std::array<double, 256>> confusion(256);
     for (auto& row : confusion) row.fill(0.0);
     SemanticMetrics m;
     double correct = 0, unlabelled = 0;
-    for (std::size_t f = 0; f < pred_triangles.size(); ++f) {
-        if (gt_label_of[f] < 0) {
-            m.unmatched_area_m2 += area[f];
+    for (std::size_t f = 0; f < n; ++f) {
+        if (mask != nullptr && (*mask)[f] == 0) continue;
+        const double area = transfer.area_m2[f];
+        const int gt_label = transfer.label[f];
+        if (gt_label < 0) {
+            m.unmatched_area_m2 += area;
             continue;
         }
-        if (gt_label_of[f] == 255) continue;
-        m.matched_area_m2 += area[f];
-        confusion[gt_label_of[f]][pred_labels[f]] += area[f];
-        if (pred_labels[f] == gt_label_of[f]) correct += area[f];
-        if (pred_labels[f] == 255) unlabelled += area[f];
+        if (gt_label == 255) continue;
+        m.matched_area_m2 += area;
+        confusion[gt_label][pred_labels[f]] += area;
+        if (pred_labels[f] == gt_label) correct += area;
+        if (pred_labels[f] == 255) unlabelled += area;
     }
     if (m.matched_area_m2 > 0) {
         m.overall_accuracy = correct / m.matched_area_m2;
@@ -88,6 +122,21 @@ SemanticMetrics evaluateSemantics(const std::vector<Vec3f>& pred_vertices,
         m.miou /= static_cast<double>(m.classes.size());
     }
     return m;
+}
+
+SemanticMetrics evaluateSemantics(const std::vector<Vec3f>& pred_vertices,
+                                  const std::vector<std::array<std::uint32_t, 3>>& pred_triangles,
+                                  const std::vector<std::uint8_t>& pred_labels,
+                                  const Raycaster& gt, const std::vector<std::uint8_t>& gt_labels,
+                                  double max_distance_m) {
+    if (pred_labels.size() != pred_triangles.size()) {
+        throw InvalidInput("evaluateSemantics: " + std::to_string(pred_labels.size()) +
+                           " prediction labels for " + std::to_string(pred_triangles.size()) +
+                           " faces");
+    }
+    return scoreSemantics(
+        transferGtLabels(pred_vertices, pred_triangles, gt, gt_labels, max_distance_m),
+        pred_labels);
 }
 
 }  // namespace vdbmap
