@@ -30,14 +30,14 @@ TEST_CASE("Bad input is counted and skipped", "[tsdf][integrate]") {
     CHECK(s.dropped_range == 1);
     CHECK(s.points_integrated == 2);
     CHECK(s.voxel_updates > 0);
-    CHECK(map.tsdf()->activeVoxelCount() > 0);
+    CHECK(map.activeVoxelCount() > 0);
 
     SECTION("an empty scan is a no-op") {
-        const auto before = map.tsdf()->activeVoxelCount();
+        const auto before = map.activeVoxelCount();
         const IntegrationStats e = integrator.integrateScan(std::vector<Vec3f>{}, origin);
         CHECK(e.points_in == 0);
         CHECK(e.voxel_updates == 0);
-        CHECK(map.tsdf()->activeVoxelCount() == before);
+        CHECK(map.activeVoxelCount() == before);
     }
     SECTION("a non-finite sensor origin drops the whole scan") {
         const IntegrationStats e =
@@ -75,17 +75,17 @@ TEST_CASE("Plane at a non-voxel-aligned offset: SDF and mesh match the closed fo
     // Every observed voxel (weight >= 1, within 10 m, not clamped) against z - z0.
     std::size_t checked = 0;
     double max_err = 0.0;
-    auto wacc = map.weight()->getConstAccessor();
+    const TsdfCodec& codec = map.codec();
     const BlockStatsGrid& blocks = map.blockStats();
     for (auto it = map.tsdf()->cbeginValueOn(); it; ++it) {
         const openvdb::Coord c = it.getCoord();
         const Vec3d x(c.x() * vs, c.y() * vs, c.z() * vs);
         const double truth = x.z() - z0;
-        if (std::hypot(x.x(), x.y()) > 10.0 || std::abs(truth) > 0.1 || wacc.getValue(c) < 1.0f)
+        if (std::hypot(x.x(), x.y()) > 10.0 || std::abs(truth) > 0.1 || codec.weight(*it) < 1.0f)
             continue;
         const auto slot = blocks.find(BlockStatsGrid::blockOf(c));
         if (slot < 0 || !blocks.entry(slot).plane_valid) continue;
-        max_err = std::max(max_err, std::abs(*it - truth));
+        max_err = std::max(max_err, std::abs(codec.sdf(*it) - truth));
         ++checked;
     }
     INFO("checked " << checked << " voxels, max error " << max_err);
@@ -132,7 +132,9 @@ TEST_CASE("Fixed mode runs through the same code path with eps_max everywhere",
     for (std::size_t i = 0; i < blocks.size(); ++i)
         CHECK(blocks.entry(static_cast<std::int32_t>(i)).truncation_m == Approx(0.3f));
     integrator.finalize();
-    REQUIRE(map.extraGrids().count("truncation") == 1);
+    const auto trunc = map.truncationGrid(0.3f);
+    REQUIRE(trunc->activeVoxelCount() == map.activeVoxelCount());
+    for (auto it = trunc->cbeginValueOn(); it; ++it) CHECK(*it == Approx(0.3f));
 }
 
 TEST_CASE("Space carving pushes previously observed voxels towards free space",
@@ -155,7 +157,9 @@ TEST_CASE("Space carving pushes previously observed voxels towards free space",
         IntegrationStats s;
         for (int i = 0; i < 5; ++i)
             s += integrateScans(integrator, without_wall, lidar, {poseAt(Vec3d::Zero())});
-        return std::make_pair(map.tsdf()->tree().getValue(openvdb::Coord(51, 0, 0)), s.carving_updates);
+        float sdf = 0.0f, weight = 0.0f;
+        map.probeVoxel(openvdb::Coord(51, 0, 0), sdf, weight);
+        return std::make_pair(sdf, s.carving_updates);
     };
     const auto [kept, no_updates] = run(false);
     const auto [carved, updates] = run(true);

@@ -21,12 +21,9 @@ TEST_CASE("vdbmap info prints grids, counts, bounds and metadata", "[cli][info]"
 
     // A 3 x 2 x 1 block of active voxels at index (10..12, -4..-3, 7), voxel size 0.5 m.
     vdbmap::VoxelMap map(0.5);
-    auto acc = map.tsdf()->getAccessor();
-    auto wacc = map.weight()->getAccessor();
     for (int i = 10; i <= 12; ++i) {
         for (int j = -4; j <= -3; ++j) {
-            acc.setValue(openvdb::Coord(i, j, 7), 0.1f);
-            wacc.setValue(openvdb::Coord(i, j, 7), 1.0f);
+            map.setVoxel(openvdb::Coord(i, j, 7), 0.1f, 1.0f);
         }
     }
     map.metadata().insertMeta("test_key", openvdb::StringMetadata("test_value"));

@@ -18,8 +18,6 @@ namespace {
 template <typename Observed>
 void writeSphere(VoxelMap& map, const Vec3d& c, double r, Observed observed) {
     const double vs = map.voxelSize();
-    auto t = map.tsdf()->getAccessor();
-    auto w = map.weight()->getAccessor();
     const int lo_x = static_cast<int>(std::floor((c.x() - r) / vs)) - 4;
     const int hi_x = static_cast<int>(std::ceil((c.x() + r) / vs)) + 4;
     const int lo_y = static_cast<int>(std::floor((c.y() - r) / vs)) - 4;
@@ -32,8 +30,7 @@ void writeSphere(VoxelMap& map, const Vec3d& c, double r, Observed observed) {
                 const Vec3d p(x * vs, y * vs, z * vs);
                 const double d = (p - c).norm() - r;
                 if (std::abs(d) > 3 * vs || !observed(p)) continue;
-                t.setValue(openvdb::Coord(x, y, z), static_cast<float>(d));
-                w.setValue(openvdb::Coord(x, y, z), 1.0f);
+                map.setVoxel(openvdb::Coord(x, y, z), static_cast<float>(d), 1.0f);
             }
 }
 
@@ -101,8 +98,9 @@ TEST_CASE("No faces between observed and unobserved space", "[mesh][mc]") {
     CHECK(boundaryEdgeCount(*mesh) > 0);  // open where the data stop
 
     SECTION("min_weight excludes weakly observed voxels") {
-        for (auto it = map.weight()->beginValueOn(); it; ++it)
-            if (it.getCoord().x() * vs < -0.5) it.setValue(0.05f);
+        const TsdfCodec& codec = map.codec();
+        for (auto it = map.tsdf()->beginValueOn(); it; ++it)
+            if (it.getCoord().x() * vs < -0.5) it.setValue(codec.encode(codec.sdf(*it), 0.05f));
         MarchingCubesConfig cfg;
         cfg.min_weight = 0.1;
         const auto cut = extractMesh(map, cfg);

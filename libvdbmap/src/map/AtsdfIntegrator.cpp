@@ -3,7 +3,6 @@
 
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Prune.h>
-#include <openvdb/tree/LeafManager.h>
 #include <openvdb/tree/ValueAccessor.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -15,17 +14,16 @@
 #include <sstream>
 
 #include "map/RayTraversal.h"
+#include "map/RayUpdate.h"
 #include "map/TsdfLeafCache.h"
 #include "vdbmap/Error.h"
 #include "vdbmap/Version.h"
 #include "vdbmap/map/BlockStats.h"
-#include "vdbmap/map/MeasurementWeight.h"
 #include "vdbmap/map/VoxelMap.h"
 
 namespace vdbmap {
 
 using openvdb::Coord;
-using FloatLeaf = openvdb::FloatTree::LeafNodeType;
 
 namespace {
 
@@ -94,6 +92,8 @@ struct AtsdfIntegrator::Scratch {
     std::vector<LocalBlock> local;
     std::vector<std::uint32_t> count;
     std::vector<std::uint32_t> order;
+    std::vector<Vec3f> dir;                   ///< unit ray direction per point (in `order`)
+    std::vector<detail::RaySegment> segment;  ///< update segment per point (in `order`)
     std::vector<std::uint64_t> leaf_bits;     ///< LeafNeighbourhood bits per local block
     std::vector<std::uint64_t> missing_bits;  ///< those of leaves not allocated yet
     std::vector<std::uint32_t> by_cell;
@@ -136,6 +136,20 @@ void validateAtsdfConfig(const AtsdfConfig& c, const std::string& who) {
 AtsdfIntegrator::AtsdfIntegrator(VoxelMap& map, const AtsdfConfig& config)
     : map_(map), config_(config), scratch_(std::make_unique<Scratch>()) {
     validateAtsdfConfig(config_, "integrate.atsdf");
+    // The packed voxels hold |D| <= sdf range and W <= weight range (vdbmap/map/TsdfVoxel.h).
+    const TsdfCodec& codec = map_.codec();
+    if (config_.truncation.max_m > static_cast<double>(codec.sdfRange()) * (1.0 + 1e-6)) {
+        std::ostringstream os;
+        os << "integrate.atsdf: truncation_max_m " << config_.truncation.max_m
+           << " exceeds the map's sdf range " << codec.sdfRange() << " m";
+        throw ConfigError(os.str());
+    }
+    if (config_.max_weight > static_cast<double>(codec.weightRange()) * (1.0 + 1e-6)) {
+        std::ostringstream os;
+        os << "integrate.atsdf: max_weight " << config_.max_weight
+           << " exceeds the map's weight range " << codec.weightRange();
+        throw ConfigError(os.str());
+    }
 }
 
 AtsdfIntegrator::~AtsdfIntegrator() = default;
@@ -180,6 +194,9 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n_points, kPointChunk),
                       [&](const tbb::blocked_range<std::size_t>& r) {
         openvdb::tree::ValueAccessor<const openvdb::Int32Tree, false> index(blocks.indexTree());
+        // Consecutive points of a scan line mostly fall into the same block.
+        Coord prev_block = Coord::max();
+        std::int32_t prev_slot = -1;
         for (std::size_t i = r.begin(); i < r.end(); ++i) {
             const Vec3d p = points_W[i].cast<double>();
             if (!p.allFinite()) {
@@ -193,8 +210,13 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
                 s.status[i] = kRange;
             } else {
                 s.status[i] = kValid;
-                s.block_of[i] = BlockStatsGrid::blockOf(detail::voxelOf(p, inv_vs));
-                s.slot_of[i] = index.getValue(s.block_of[i]);
+                const Coord block = BlockStatsGrid::blockOf(detail::voxelOf(p, inv_vs));
+                if (block != prev_block) {
+                    prev_block = block;
+                    prev_slot = index.getValue(block);
+                }
+                s.block_of[i] = block;
+                s.slot_of[i] = prev_slot;
             }
         }
     });
@@ -265,6 +287,10 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
     const int reach_vox = static_cast<int>(std::ceil(trunc.max_m * inv_vs)) + 2;
     const LeafNeighbourhood hood(reach_vox);
     s.leaf_bits.assign(local.size() * hood.words, 0);
+    s.dir.resize(order.size());
+    s.segment.resize(order.size());
+    const Vec3f origin_f = origin_W.cast<float>();
+    const float inv_vs_f = static_cast<float>(inv_vs);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, local.size(), 16),
                       [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t b = r.begin(); b < r.end(); ++b) {
@@ -298,20 +324,21 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
             entry.normal_W = plane.normal.cast<float>();
             entry.flatness = static_cast<float>(plane.flatness);
             entry.truncation_m = static_cast<float>(truncationFor(trunc, plane, entry.stats.n));
-            // Leaves of each point's update segment [r - eps, r + eps], as bits of the block's
-            // leaf neighbourhood (eps <= eps_max keeps them inside it). The traversal starts in
-            // the voxel of the start point (same expression as in phase 3) and stops in the
-            // voxel of the end point; the end is pushed out by 1e-6 voxel so that a rounding
-            // difference between the two cannot reach a leaf that is not allocated.
-            const double eps = entry.truncation_m;
+            // Each point's update segment (RaySegment, kept for phase 3) and the leaves it
+            // crosses, as bits of the block's leaf neighbourhood (eps <= eps_max keeps them
+            // inside it): the leaves of the box between the start and the end voxel.
+            const float eps = entry.truncation_m;
             const Coord bc = blocks.blockCoord(lb.slot);
             std::uint64_t* bits = s.leaf_bits.data() + b * hood.words;
             const std::size_t own_bit = hood.bit(0, 0, 0);
             for (std::uint32_t k = lb.begin; k < lb.end; ++k) {
-                const Vec3d p = points_W[order[k]].cast<double>();
-                const Vec3d dir = (p - origin_W).normalized();
-                const Coord c0 = detail::voxelOf(p - dir * eps, inv_vs);
-                const Coord c1 = detail::voxelOf(p + dir * (eps + 1e-6 * vs), inv_vs);
+                const Vec3f& p = points_W[order[k]];
+                const Vec3f dir = (p - origin_f).normalized();
+                const detail::RaySegment seg = detail::RaySegment::of(p, dir, eps, inv_vs_f);
+                s.dir[k] = dir;
+                s.segment[k] = seg;
+                const Coord c0 = seg.startVoxel();
+                const Coord c1 = seg.endVoxel(dir);
                 const Coord lo = BlockStatsGrid::blockOf(Coord::minComponent(c0, c1)) - bc;
                 const Coord hi = BlockStatsGrid::blockOf(Coord::maxComponent(c0, c1)) - bc;
                 if (lo == Coord(0) && hi == Coord(0)) {  // the common case: inside the own leaf
@@ -363,13 +390,13 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
     t0 = Clock::now();
 
     // ---- Phase 3a: find the leaves that do not exist yet (parallel, read-only), then allocate
-    // them (serial: tree topology changes are not thread-safe), in the same order on both trees.
-    openvdb::FloatTree& tsdf_tree = map_.tsdf()->tree();
-    openvdb::FloatTree& weight_tree = map_.weight()->tree();
+    // them (serial: tree topology changes are not thread-safe).
+    TsdfTree& tsdf_tree = map_.tsdf()->tree();
+    const TsdfCodec& codec = map_.codec();
     s.missing_bits.assign(s.leaf_bits.size(), 0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, local.size(), 64),
                       [&](const tbb::blocked_range<std::size_t>& r) {
-        openvdb::tree::ValueAccessor<const openvdb::FloatTree, false> acc(tsdf_tree);
+        openvdb::tree::ValueAccessor<const TsdfTree, false> acc(tsdf_tree);
         for (std::size_t b = r.begin(); b < r.end(); ++b) {
             const Coord bc = blocks.blockCoord(local[b].slot);
             const std::uint64_t* bits = s.leaf_bits.data() + b * hood.words;
@@ -381,14 +408,11 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
         }
     });
     {
-        openvdb::tree::ValueAccessor<openvdb::FloatTree> ta(tsdf_tree);
-        openvdb::tree::ValueAccessor<openvdb::FloatTree> wa(weight_tree);
+        openvdb::tree::ValueAccessor<TsdfTree> acc(tsdf_tree);
         for (std::size_t b = 0; b < local.size(); ++b) {
             const Coord bc = blocks.blockCoord(local[b].slot);
             forEachBit(s.missing_bits.data() + b * hood.words, hood.words, [&](std::size_t bit) {
-                const Coord o = hood.origin(bc, bit);
-                ta.touchLeaf(o);
-                wa.touchLeaf(o);
+                acc.touchLeaf(hood.origin(bc, bit));
             });
         }
     }
@@ -422,28 +446,39 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
     cell_begin.push_back(static_cast<std::uint32_t>(by_cell.size()));
 
     const float max_weight = static_cast<float>(config_.max_weight);
-    const double floor_w = config_.weight_floor;
-    auto integrateCell = [&](std::size_t cell_index, detail::TsdfLeafCache& cache) -> std::size_t {
+    const float floor_w = static_cast<float>(config_.weight_floor);
+    const float vs_f = static_cast<float>(vs);
+    auto integrateCell = [&](std::size_t cell_index, detail::TsdfLeafCache::Accessor& acc) -> std::size_t {
+        detail::TsdfLeafCache cache(codec);
         std::size_t updates = 0;
+        // The voxel updates go straight into the packed leaves.
+        struct Sink {
+            detail::TsdfLeafCache& cache;
+            detail::TsdfLeafCache::Accessor& acc;
+            std::size_t& updates;
+            float max_weight;
+            bool enterLeaf(const Coord& origin) { return cache.enterLeaf(origin, acc); }
+            void update(const int*, unsigned offset, float sdf, float w) {
+                cache.updateAt(offset, sdf, w, max_weight);
+                ++updates;
+            }
+        } sink{cache, acc, updates, max_weight};
         for (std::uint32_t i = cell_begin[cell_index]; i < cell_begin[cell_index + 1]; ++i) {
             const LocalBlock& lb = local[by_cell[i]];
-            const double eps = blocks.entry(lb.slot).truncation_m;
+            const float eps = blocks.entry(lb.slot).truncation_m;
+            const float inv_dropoff = eps > vs_f ? 1.0f / (eps - vs_f) : 0.0f;
             // No normal (isolated degenerate block): the ray direction (sdf along the ray).
             const bool has_normal = lb.normal.squaredNorm() > 0.0;
+            const Vec3f block_normal = lb.normal.cast<float>();
+            cache.prefetch(blocks.blockCoord(lb.slot), acc);
             for (std::uint32_t k = lb.begin; k < lb.end; ++k) {
-                const Vec3d p = points_W[order[k]].cast<double>();
-                const Vec3d dir = (p - origin_W).normalized();  // as in phase 2
-                const Vec3d normal = has_normal ? lb.normal : Vec3d(-dir);
+                const Vec3f& p = points_W[order[k]];
+                const Vec3f& dir = s.dir[k];
+                const Vec3f normal = has_normal ? block_normal : Vec3f(-dir);
                 // incidenceWeight(normal, origin_W, p, floor_w), from the unit ray direction.
-                const double w_inc = has_normal ? std::clamp(-normal.dot(dir), floor_w, 1.0) : 1.0;
-                detail::traverseSegment(p - dir * eps, dir, 2.0 * eps, inv_vs, [&](const Coord& v) {
-                    const Vec3d centre(v.x() * vs, v.y() * vs, v.z() * vs);
-                    const double sdf = std::clamp(normal.dot(centre - p), -eps, eps);
-                    const double w = w_inc * behindSurfaceFactor(sdf, eps, vs);
-                    if (!(w > 0.0) || !cache.fetch(v)) return;
-                    cache.update(v, static_cast<float>(sdf), static_cast<float>(w), max_weight);
-                    ++updates;
-                });
+                const float cos_incidence = -normal.dot(dir);
+                const float w_inc = has_normal ? std::clamp(cos_incidence, floor_w, 1.0f) : 1.0f;
+                detail::integrateRay(s.segment[k], p, dir, normal, w_inc, eps, vs_f, inv_dropoff, sink);
             }
         }
         return updates;
@@ -459,9 +494,9 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
             ++colour_end;
         tbb::parallel_for(tbb::blocked_range<std::size_t>(colour_start, colour_end, 1),
                           [&](const tbb::blocked_range<std::size_t>& r) {
-                              detail::TsdfLeafCache cache(tsdf_tree, weight_tree);
+                              detail::TsdfLeafCache::Accessor acc(tsdf_tree);
                               for (std::size_t c = r.begin(); c < r.end(); ++c)
-                                  s.updates_per_cell[c] = integrateCell(c, cache);
+                                  s.updates_per_cell[c] = integrateCell(c, acc);
                           });
         colour_start = colour_end;
     }
@@ -469,7 +504,8 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
 
     // ---- Optional space carving (serial, deterministic): free space in front of the band.
     if (config_.space_carving) {
-        detail::TsdfLeafCache cache(tsdf_tree, weight_tree);
+        detail::TsdfLeafCache::Accessor acc(tsdf_tree);
+        detail::TsdfLeafCache cache(codec);
         const float free_sdf = static_cast<float>(trunc.max_m);
         for (std::size_t i = 0; i < n_points; ++i) {
             const std::int32_t l = s.local_of_point[i];
@@ -481,7 +517,7 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
             if (range <= eps) continue;
             detail::traverseSegment(origin_W, ray / range, range - eps - vs, inv_vs,
                                     [&](const Coord& v) {
-                if (cache.fetch(v) && cache.updateObserved(v, free_sdf, 1.0f, max_weight))
+                if (cache.fetch(v, acc) && cache.updateObserved(v, free_sdf, 1.0f, max_weight))
                     ++st.carving_updates;
             });
         }
@@ -492,24 +528,9 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
 }
 
 void AtsdfIntegrator::finalize() {
-    openvdb::FloatGrid::Ptr tsdf = map_.tsdf();
-    openvdb::tools::pruneInactive(tsdf->tree());
-    openvdb::tools::pruneInactive(map_.weight()->tree());
-    // Per-voxel truncation (eps of the voxel's block), same transform and topology as the tsdf.
-    auto trunc_grid = openvdb::FloatGrid::create(static_cast<float>(config_.truncation.max_m));
-    trunc_grid->setTransform(map_.transform());
-    trunc_grid->tree().topologyUnion(tsdf->tree());
-    const BlockStatsGrid& blocks = map_.blockStats();
-    openvdb::tree::LeafManager<openvdb::FloatTree> leaves(trunc_grid->tree());
-    leaves.foreach([&](FloatLeaf& leaf, std::size_t) {
-        const std::int32_t slot = blocks.find(BlockStatsGrid::blockOf(leaf.origin()));
-        const float eps = slot >= 0 ? blocks.entry(slot).truncation_m
-                                    : static_cast<float>(config_.truncation.max_m);
-        for (auto it = leaf.beginValueOn(); it; ++it) it.setValue(eps);
-    });
-    trunc_grid->setGridClass(openvdb::GRID_FOG_VOLUME);
-    map_.setExtraGrid("truncation", trunc_grid);
-
+    openvdb::tools::pruneInactive(map_.tsdf()->tree());
+    // The per-voxel truncation grid is derived from the block statistics when map.vdb is
+    // written (VoxelMap::truncationGrid), so it costs no memory while the map is in use.
     openvdb::MetaMap& meta = map_.metadata();
     meta.insertMeta("voxel_size_m", openvdb::DoubleMetadata(map_.voxelSize()));
     meta.insertMeta("truncation_mode",

@@ -4,71 +4,92 @@
 #include <openvdb/openvdb.h>
 #include <openvdb/tree/ValueAccessor.h>
 
+#include <cstdint>
+
+#include "vdbmap/map/TsdfVoxel.h"
+
 namespace vdbmap::detail {
 
-/// Raw access to the tsdf and weight values of the leaf that holds the last voxel asked for.
-/// The two trees have the same topology. One per thread; the trees' topology must not change
-/// while it is in use (the leaves are allocated before the voxel loop), so the accessors are
-/// the unregistered kind. A voxel update then costs a mask test and two array accesses instead
-/// of two tree look-ups and LeafBuffer's out-of-core checks.
+/// Raw access to the packed values and the value mask of the TSDF leaf that holds the last
+/// voxel asked for. One per thread; the tree's topology must not change while it is in use
+/// (the leaves are allocated before the voxel loop), so the accessor is the unregistered
+/// kind. A voxel update costs a mask test and one 4-byte load and store instead of a tree
+/// look-up and LeafBuffer's out-of-core checks. The state is plain values and __restrict
+/// pointers (the codec is copied in) so that the compiler keeps it in registers across the
+/// stores into the leaf.
 class TsdfLeafCache {
 public:
-    using Tree = openvdb::FloatTree;
-    using Leaf = Tree::LeafNodeType;
+    using Accessor = openvdb::tree::ValueAccessor<TsdfTree, false>;
 
-    TsdfLeafCache(Tree& tsdf, Tree& weight) : tsdf_(tsdf), weight_(weight) {}
+    explicit TsdfLeafCache(const TsdfCodec& codec) : codec_(codec) {}
 
-    /// True if the leaf of `ijk` exists; then `sdf()`, `weight()` and the masks refer to it.
-    bool fetch(const openvdb::Coord& ijk) {
-        const openvdb::Coord origin = ijk & ~(Leaf::DIM - 1);
+    /// True if the leaf of `ijk` exists; then update() writes into it.
+    bool fetch(const openvdb::Coord& ijk, Accessor& tree) {
+        return enterLeaf(ijk & ~(TsdfLeaf::DIM - 1), tree);
+    }
+
+    /// fetch() for the leaf with this origin (a multiple of 8).
+    bool enterLeaf(const openvdb::Coord& origin, Accessor& tree) {
         if (origin != origin_) {
             origin_ = origin;
-            Leaf* t = tsdf_.probeLeaf(origin);
-            Leaf* w = weight_.probeLeaf(origin);
-            if (t != nullptr && w != nullptr) {
-                sdf_ = t->buffer().data();
-                weight_values_ = w->buffer().data();
-                sdf_mask_ = &t->getValueMask();
-                weight_mask_ = &w->getValueMask();
+            TsdfLeaf* leaf = tree.probeLeaf(openvdb::Coord(origin));
+            if (leaf != nullptr) {
+                values_ = leaf->buffer().data();
+                mask_ = &leaf->getValueMask().template getWord<std::uint64_t>(0);
             } else {
-                sdf_ = nullptr;
+                values_ = nullptr;
+                mask_ = nullptr;
             }
         }
-        return sdf_ != nullptr;
+        return values_ != nullptr;
+    }
+
+    /// Makes the leaf of block `block` (origin 8 * block) the fetched one and asks the CPU to
+    /// bring its 2 KiB of values into the cache: a block's points update voxels all over its
+    /// leaf, and after the other blocks of a scan the leaf is rarely still cached.
+    void prefetch(const openvdb::Coord& block, Accessor& tree) {
+        const openvdb::Coord origin(block.x() * TsdfLeaf::DIM, block.y() * TsdfLeaf::DIM,
+                                    block.z() * TsdfLeaf::DIM);
+        if (!fetch(origin, tree)) return;
+        constexpr std::size_t kLine = 64 / sizeof(std::uint32_t);
+        for (std::size_t i = 0; i < TsdfLeaf::SIZE; i += kLine) __builtin_prefetch(values_ + i, 1);
     }
 
     /// Running weighted average of one voxel of the fetched leaf (paper Sec. 4.2):
     /// D' = (W D + w d) / (W + w), W' = min(W + w, max_weight); an unobserved voxel takes d, w.
     void update(const openvdb::Coord& ijk, float sdf_m, float w, float max_weight) {
-        const openvdb::Index off = Leaf::coordToOffset(ijk);
-        if (sdf_mask_->isOn(off)) {
-            const float W = weight_values_[off];
-            sdf_[off] = (W * sdf_[off] + w * sdf_m) / (W + w);
-            weight_values_[off] = W + w < max_weight ? W + w : max_weight;
+        updateAt(TsdfLeaf::coordToOffset(ijk), sdf_m, w, max_weight);
+    }
+
+    /// update() by the voxel's offset in the fetched leaf.
+    void updateAt(unsigned off, float sdf_m, float w, float max_weight) {
+        std::uint64_t& word = mask_[off >> 6];
+        const std::uint64_t bit = std::uint64_t{1} << (off & 63);
+        std::uint32_t& value = values_[off];
+        if (word & bit) {
+            const float W = codec_.weight(value);
+            const float D = codec_.sdf(value);
+            const float sum = W + w;
+            value = codec_.encode((W * D + w * sdf_m) / sum, sum < max_weight ? sum : max_weight);
         } else {
-            sdf_mask_->setOn(off);
-            weight_mask_->setOn(off);
-            sdf_[off] = sdf_m;
-            weight_values_[off] = w < max_weight ? w : max_weight;
+            word |= bit;
+            value = codec_.encode(sdf_m, w < max_weight ? w : max_weight);
         }
     }
 
     /// Like update(), but only for voxels that are already observed. Returns whether it was.
     bool updateObserved(const openvdb::Coord& ijk, float sdf_m, float w, float max_weight) {
-        const openvdb::Index off = Leaf::coordToOffset(ijk);
-        if (!sdf_mask_->isOn(off)) return false;
+        const openvdb::Index off = TsdfLeaf::coordToOffset(ijk);
+        if (!(mask_[off >> 6] & (std::uint64_t{1} << (off & 63)))) return false;
         update(ijk, sdf_m, w, max_weight);
         return true;
     }
 
 private:
-    openvdb::tree::ValueAccessor<Tree, false> tsdf_;
-    openvdb::tree::ValueAccessor<Tree, false> weight_;
+    const TsdfCodec codec_;
     openvdb::Coord origin_ = openvdb::Coord::max();
-    float* sdf_ = nullptr;
-    float* weight_values_ = nullptr;
-    openvdb::util::NodeMask<3>* sdf_mask_ = nullptr;
-    openvdb::util::NodeMask<3>* weight_mask_ = nullptr;
+    std::uint32_t* __restrict values_ = nullptr;
+    std::uint64_t* __restrict mask_ = nullptr;
 };
 
 }  // namespace vdbmap::detail

@@ -75,7 +75,8 @@ public:
     }
     void run(Context& ctx) override {
         const Dataset& dataset = ctx.dataset();
-        auto map = std::make_shared<VoxelMap>(voxel_size_m_, static_cast<float>(max_m_));
+        auto map = std::make_shared<VoxelMap>(voxel_size_m_, static_cast<float>(max_m_),
+                                              static_cast<float>(max_weight_));
         AtsdfIntegrator integrator(*map, config_);
         ScanReadStats read_total;
         Timer timer;
@@ -106,13 +107,13 @@ public:
         r.stage(s, "dropped_at_origin", t.dropped_at_origin);
         r.stage(s, "voxel_updates", t.voxel_updates);
         r.stage(s, "carving_updates", t.carving_updates);
-        const std::size_t active = static_cast<std::size_t>(map->tsdf()->activeVoxelCount());
-        const std::size_t leaves = static_cast<std::size_t>(map->tsdf()->tree().leafCount());
+        const std::size_t active = static_cast<std::size_t>(map->activeVoxelCount());
+        const std::size_t leaves = static_cast<std::size_t>(map->leafCount());
         r.stage(s, "voxels_active", active);
         r.stage(s, "leaves", leaves);
         r.stage(s, "blocks_with_stats", map->blockStats().size());
         r.stage(s, "bytes_per_leaf_stats", map->blockStats().bytesPerBlock());
-        const double grid_bytes = static_cast<double>(map->tsdf()->memUsage() + map->weight()->memUsage());
+        const double grid_bytes = static_cast<double>(map->tsdfMemoryBytes());
         r.stage(s, "bytes_per_active_voxel", active ? grid_bytes / static_cast<double>(active) : 0.0);
         r.stage(s, "ms_per_scan", t.scans ? 1e3 * seconds / static_cast<double>(t.scans) : 0.0);
         r.stage(s, "mpts_per_s", seconds > 0 ? 1e-6 * static_cast<double>(t.points_integrated) / seconds : 0.0);

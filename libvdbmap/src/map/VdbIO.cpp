@@ -13,15 +13,15 @@ namespace vdbmap {
 
 void writeMapVdb(const std::filesystem::path& path, const VoxelMap& map) {
     openvdb::GridPtrVec grids;
-    // Shallow copies share the trees; the names and classes are those of DATA.md.
-    openvdb::FloatGrid::Ptr surface = map.tsdf()->copy();
-    surface->setName("surface");
-    surface->setGridClass(openvdb::GRID_LEVEL_SET);
+    // Plain float grids decoded from the packed TSDF; the names and classes are those of DATA.md.
+    openvdb::FloatGrid::Ptr surface = map.surfaceGrid();
     surface->setSaveFloatAsHalf(false);
     grids.push_back(surface);
-    openvdb::FloatGrid::Ptr weight = map.weight()->copy();
-    weight->setName("weight");
-    grids.push_back(weight);
+    grids.push_back(map.weightGrid());
+    // The adaptive truncation, once an integrator has finalized the map (it sets the metadata).
+    if (const auto eps_max = map.metadata().getMetadata<openvdb::DoubleMetadata>("truncation_max_m")) {
+        grids.push_back(map.truncationGrid(static_cast<float>(eps_max->value())));
+    }
     for (const auto& [name, grid] : map.extraGrids()) {
         openvdb::GridBase::Ptr g = grid->copyGrid();
         g->setName(name);

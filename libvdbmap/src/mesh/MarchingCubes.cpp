@@ -20,7 +20,7 @@ namespace vdbmap {
 namespace {
 
 using openvdb::Coord;
-using ConstAccessor = openvdb::tree::ValueAccessor<const openvdb::FloatTree, false>;
+using ConstAccessor = openvdb::tree::ValueAccessor<const TsdfTree, false>;
 
 /// 62-bit key of a grid edge: its lower voxel (20 bits per axis, offset 2^19) and its axis.
 std::uint64_t edgeKey(const Coord& lower, int axis) {
@@ -48,12 +48,12 @@ std::shared_ptr<TriMesh> extractMesh(const VoxelMap& map, const MarchingCubesCon
                                      MeshStats* stats_out) {
     MeshStats stats;
     const detail::CubeTable& table = detail::cubeTable();
-    const openvdb::FloatTree& tsdf = map.tsdf()->tree();
-    const openvdb::FloatTree& weight = map.weight()->tree();
+    const TsdfTree& tsdf = map.tsdf()->tree();
+    const TsdfCodec& codec = map.codec();
     const float vs = static_cast<float>(map.voxelSize());
     const float min_weight = static_cast<float>(config.min_weight);
 
-    std::vector<const openvdb::FloatTree::LeafNodeType*> leaves;
+    std::vector<const TsdfLeaf*> leaves;
     leaves.reserve(tsdf.leafCount());
     for (auto it = tsdf.cbeginLeaf(); it; ++it) leaves.push_back(it.getLeaf());
     std::vector<LeafMesh> out(leaves.size());
@@ -62,7 +62,6 @@ std::shared_ptr<TriMesh> extractMesh(const VoxelMap& map, const MarchingCubesCon
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 4),
                       [&](const tbb::blocked_range<std::size_t>& r) {
         ConstAccessor ta(tsdf);
-        ConstAccessor wa(weight);
         for (std::size_t li = r.begin(); li < r.end(); ++li) {
             LeafMesh& lm = out[li];
             for (auto it = leaves[li]->cbeginValueOn(); it; ++it) {
@@ -72,9 +71,11 @@ std::shared_ptr<TriMesh> extractMesh(const VoxelMap& map, const MarchingCubesCon
                 bool observed = true;
                 for (int k = 0; k < 8 && observed; ++k) {
                     const Coord ck = c.offsetBy(k & 1, (k >> 1) & 1, (k >> 2) & 1);
-                    float w = 0.0f;
-                    observed = ta.probeValue(ck, val[k]) && wa.probeValue(ck, w) &&
-                               w >= min_weight && w > 0.0f;
+                    std::uint32_t packed = 0;
+                    observed = ta.probeValue(ck, packed);
+                    const float w = codec.weight(packed);
+                    val[k] = codec.sdf(packed);
+                    observed = observed && w >= min_weight && w > 0.0f;
                     if (val[k] < 0.0f) mask |= 1 << k;
                 }
                 if (!observed || mask == 0 || mask == 255) continue;

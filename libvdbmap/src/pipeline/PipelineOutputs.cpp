@@ -12,7 +12,7 @@ namespace vdbmap::detail {
 void writePipelineOutputs(Context& ctx, const OutputConfig& output, Report& report) {
     if (ctx.hasMap()) {
         const VoxelMap& map = ctx.map();
-        report.set({"counts", "active_voxels"}, map.tsdf()->activeVoxelCount());
+        report.set({"counts", "active_voxels"}, map.activeVoxelCount());
         report.set({"counts", "voxel_size_m"}, map.voxelSize());
         if (output.write_map) {
             const auto path = ctx.outputDir() / "map.vdb";

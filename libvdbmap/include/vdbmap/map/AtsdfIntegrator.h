@@ -73,7 +73,8 @@ struct IntegrationStats {
 /// depend on the thread count. No atomics, no locks in the voxel loop.
 class AtsdfIntegrator {
 public:
-    /// The map's tsdf background should be config.truncation.max_m. Throws ConfigError.
+    /// Throws ConfigError on a bad config, or if truncation max or max weight exceed the map's
+    /// sdf or weight range (VoxelMap's constructor; best: the sdf range = truncation max).
     AtsdfIntegrator(VoxelMap& map, const AtsdfConfig& config);
     ~AtsdfIntegrator();
     AtsdfIntegrator(const AtsdfIntegrator&) = delete;
@@ -85,9 +86,9 @@ public:
     /// Same with points in the LiDAR frame and the pose T_W_L.
     IntegrationStats integrateScan(const std::vector<Vec3f>& points_L, const Isometry3d& T_W_L);
 
-    /// Writes the per-voxel truncation grid ("truncation", eps of the voxel's block, metres,
-    /// topology of the tsdf) and the truncation metadata into the map, and removes leaves
-    /// without active voxels. Call after the last scan.
+    /// Writes the truncation settings into the map's metadata (map.vdb then also gets the
+    /// per-voxel "truncation" grid, VoxelMap::truncationGrid) and removes leaves without
+    /// active voxels. Call after the last scan.
     void finalize();
 
     const AtsdfConfig& config() const { return config_; }

@@ -3,26 +3,33 @@
 
 #include <openvdb/openvdb.h>
 
+#include <cstddef>
 #include <map>
 #include <memory>
 #include <string>
+
+#include "vdbmap/map/TsdfVoxel.h"
 
 namespace vdbmap {
 
 class BlockStatsGrid;
 
 /// The volumetric map: OpenVDB grids sharing one linear transform of voxel size `voxelSize()`.
-///  - `tsdf()`:   signed distance in metres, positive in front of the surface (towards the
-///                sensor), background = +truncation max; saved as grid "surface".
-///  - `weight()`: accumulated measurement weight, background 0 (= unobserved).
+///  - `tsdf()`: ONE packed tree (vdbmap/map/TsdfVoxel.h) whose 32-bit voxels hold the signed
+///    distance D (metres, positive in front of the surface, towards the sensor; background
+///    +sdf range) and the accumulated weight W (background 0 = unobserved). An active voxel is
+///    an observed one. `codec()` decodes a value; `surfaceGrid()` and `weightGrid()` give the
+///    plain float grids of map.vdb ("surface", "weight").
 ///  - per-8^3-leaf point statistics (count, mean, covariance) that drive the adaptive
-///    truncation, see map/BlockStats.h.
-///  - `extraGrids()`: further named grids written into map.vdb (e.g. "truncation", "label").
+///    truncation, see map/BlockStats.h; `truncationGrid()` shows their eps per voxel.
+///  - `extraGrids()`: further named grids written into map.vdb (e.g. "label").
 /// Coordinates are world frame W, metres. Voxel (i,j,k) has its centre at (i,j,k)*voxelSize.
 class VoxelMap {
 public:
-    /// Throws InvalidInput if voxel_size_m is not finite and > 0.
-    explicit VoxelMap(double voxel_size_m, float background_sdf_m = 1.0f);
+    /// `sdf_range_m` bounds |D| (the integrator's truncation max must not exceed it) and is the
+    /// background distance; `weight_range` bounds W (the integrator's max weight must not
+    /// exceed it). Throws InvalidInput if voxel_size_m or a range is not finite and > 0.
+    explicit VoxelMap(double voxel_size_m, float sdf_range_m = 1.0f, float weight_range = 100.0f);
     ~VoxelMap();
     VoxelMap(const VoxelMap&) = delete;
     VoxelMap& operator=(const VoxelMap&) = delete;
@@ -30,8 +37,28 @@ public:
     double voxelSize() const { return voxel_size_m_; }
     openvdb::math::Transform::Ptr transform() const { return transform_; }
 
-    openvdb::FloatGrid::Ptr tsdf() const { return tsdf_; }
-    openvdb::FloatGrid::Ptr weight() const { return weight_; }
+    /// The packed TSDF grid and its codec.
+    TsdfGrid::Ptr tsdf() const { return tsdf_; }
+    const TsdfCodec& codec() const { return codec_; }
+
+    /// Slow-path access to one voxel (tests, tools): set it observed with (sdf_m, weight), or
+    /// read it; probeVoxel returns false for an unobserved voxel.
+    void setVoxel(const openvdb::Coord& ijk, float sdf_m, float weight);
+    bool probeVoxel(const openvdb::Coord& ijk, float& sdf_m, float& weight) const;
+
+    openvdb::Index64 activeVoxelCount() const;
+    openvdb::Index64 leafCount() const;
+    /// Bytes of the TSDF tree (distance and weight; statistics excluded).
+    std::size_t tsdfMemoryBytes() const;
+
+    /// Decoded float grids with the topology of the TSDF, for map.vdb (DATA.md) and inspection:
+    /// "surface" (level set class, background +sdf range) and "weight" (background 0).
+    openvdb::FloatGrid::Ptr surfaceGrid() const;
+    openvdb::FloatGrid::Ptr weightGrid() const;
+    /// "truncation": at every active voxel the eps of its 8^3 block after the last scan that
+    /// merged points into it, or `no_block_m` for leaves whose block never held a point (they
+    /// were written by the updates of a neighbouring block). Fog volume class.
+    openvdb::FloatGrid::Ptr truncationGrid(float no_block_m) const;
 
     BlockStatsGrid& blockStats() { return *block_stats_; }
     const BlockStatsGrid& blockStats() const { return *block_stats_; }
@@ -46,9 +73,9 @@ public:
 
 private:
     double voxel_size_m_;
+    TsdfCodec codec_;
     openvdb::math::Transform::Ptr transform_;
-    openvdb::FloatGrid::Ptr tsdf_;
-    openvdb::FloatGrid::Ptr weight_;
+    TsdfGrid::Ptr tsdf_;
     std::unique_ptr<BlockStatsGrid> block_stats_;
     std::map<std::string, openvdb::GridBase::Ptr> extra_;
     openvdb::MetaMap meta_;
