@@ -147,8 +147,11 @@ int main(int argc, char** argv) {
         const double grid_bytes = static_cast<double>(map.tsdfMemoryBytes());
         // Active voxels per leaf: how full the allocated 8^3 leaves are.
         std::vector<int> fill;
-        for (auto leaf = map.tsdf()->tree().cbeginLeaf(); leaf; ++leaf)
+        double leaf_bytes = 0.0;
+        for (auto leaf = map.tsdf()->tree().cbeginLeaf(); leaf; ++leaf) {
             fill.push_back(static_cast<int>(leaf->onVoxelCount()));
+            leaf_bytes += static_cast<double>(leaf->memUsage());
+        }
         std::sort(fill.begin(), fill.end());
         auto fillAt = [&](double q) {
             return fill.empty() ? 0 : fill[static_cast<std::size_t>(q * (fill.size() - 1))];
@@ -184,6 +187,8 @@ int main(int argc, char** argv) {
         j["leaf_fill_p10_p50_p90"] = {fillAt(0.1), fillAt(0.5), fillAt(0.9)};
         j["bytes_per_active_voxel"] = grid_bytes / active;
         j["bytes_per_leaf_grids"] = grid_bytes / leaves;
+        j["bytes_per_leaf_node"] = leaf_bytes / leaves;  // the leaf itself, without internal nodes
+        j["mean_leaf_fill"] = active / leaves;
         j["bytes_per_leaf_stats"] = map.blockStats().bytesPerBlock();
         j["blocks_with_stats"] = map.blockStats().size();
         j["peak_rss_mb"] = static_cast<double>(peakMemoryBytes()) / (1024.0 * 1024.0);

@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "map/RayTraversal.h"
+#include "map/LeafNeighbourhood.h"
 #include "map/RayUpdate.h"
 #include "map/TsdfLeafCache.h"
 #include "vdbmap/Error.h"
@@ -28,6 +29,9 @@ using openvdb::Coord;
 namespace {
 
 constexpr std::size_t kPointChunk = 4096;
+/// Points further than this many voxels from the world origin are dropped as absurd ranges
+/// (OpenVDB coordinates are 32-bit ints; the update reach must not overflow them).
+constexpr float kMaxIndex = 1e9f;
 
 enum PointStatus : std::uint8_t { kValid = 0, kNonFinite = 1, kAtOrigin = 2, kRange = 3 };
 
@@ -47,37 +51,8 @@ struct LocalBlock {
     std::uint64_t sort_key = 0;  ///< (colour, cell) for phase 3
 };
 
-/// The TSDF leaves around a block that its points' updates can reach: a cube of
-/// (2 R + 1)^3 leaves centred on the block's own leaf, one bit each.
-struct LeafNeighbourhood {
-    int radius = 1;  ///< R, in leaves
-    int side = 3;    ///< 2 R + 1
-    std::size_t words = 1;  ///< 64-bit words per block
-
-    explicit LeafNeighbourhood(int reach_vox)
-        : radius(std::max(1, (reach_vox + 7) / 8)),
-          side(2 * radius + 1),
-          words((static_cast<std::size_t>(side) * side * side + 63) / 64) {}
-
-    /// Bit of the leaf at block-relative leaf offset (dx, dy, dz), each in [-R, R].
-    std::size_t bit(int dx, int dy, int dz) const {
-        return static_cast<std::size_t>(((dx + radius) * side + (dy + radius)) * side + (dz + radius));
-    }
-    /// Origin (voxels) of the leaf of bit `b` around block `bc`.
-    Coord origin(const Coord& bc, std::size_t b) const {
-        const int i = static_cast<int>(b);
-        const int dz = i % side - radius, dy = (i / side) % side - radius,
-                  dx = i / (side * side) - radius;
-        return Coord((bc.x() + dx) * 8, (bc.y() + dy) * 8, (bc.z() + dz) * 8);
-    }
-};
-
-template <typename Visit>
-void forEachBit(const std::uint64_t* words, std::size_t n_words, Visit&& visit) {
-    for (std::size_t w = 0; w < n_words; ++w)
-        for (std::uint64_t bits = words[w]; bits != 0; bits &= bits - 1)
-            visit(w * 64 + static_cast<std::size_t>(__builtin_ctzll(bits)));
-}
+using detail::forEachBit;
+using detail::LeafNeighbourhood;
 
 }  // namespace
 
@@ -183,6 +158,11 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
     const double inv_vs = 1.0 / vs;
     const TruncationParams& trunc = config_.truncation;
     BlockStatsGrid& blocks = map_.blockStats();
+    const Vec3f origin_f = origin_W.cast<float>();
+    const float inv_vs_f = static_cast<float>(inv_vs);
+    // Range checks on squared float ranges (no square root per point).
+    const float min_range2 = static_cast<float>(config_.min_range_m * config_.min_range_m);
+    const float max_range2 = static_cast<float>(std::min(config_.max_range_m, 1e18) * std::min(config_.max_range_m, 1e18));
     auto t0 = Clock::now();
 
     // ---- Phase 1: classify the points and look up their blocks (parallel, read-only), then
@@ -198,19 +178,24 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
         Coord prev_block = Coord::max();
         std::int32_t prev_slot = -1;
         for (std::size_t i = r.begin(); i < r.end(); ++i) {
-            const Vec3d p = points_W[i].cast<double>();
-            if (!p.allFinite()) {
+            const Vec3f& p = points_W[i];
+            if (!(std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z()))) {
                 s.status[i] = kNonFinite;
                 continue;
             }
-            const double range = (p - origin_W).norm();
-            if (range < config_.min_range_m) {
+            const float range2 = (p - origin_f).squaredNorm();
+            if (range2 < min_range2) {
                 s.status[i] = kAtOrigin;
-            } else if (range > config_.max_range_m) {
-                s.status[i] = kRange;
+            } else if (range2 > max_range2 || !(std::abs(p.x() * inv_vs_f) < kMaxIndex &&
+                                                 std::abs(p.y() * inv_vs_f) < kMaxIndex &&
+                                                 std::abs(p.z() * inv_vs_f) < kMaxIndex)) {
+                s.status[i] = kRange;  // beyond max_range_m, or beyond the int voxel index range
             } else {
                 s.status[i] = kValid;
-                const Coord block = BlockStatsGrid::blockOf(detail::voxelOf(p, inv_vs));
+                // The voxel of p (cell [i - 0.5, i + 0.5) voxels), then its 8^3 block.
+                const Coord block(detail::floorToInt(p.x() * inv_vs_f + 0.5f) >> 3,
+                                  detail::floorToInt(p.y() * inv_vs_f + 0.5f) >> 3,
+                                  detail::floorToInt(p.z() * inv_vs_f + 0.5f) >> 3);
                 if (block != prev_block) {
                     prev_block = block;
                     prev_slot = index.getValue(block);
@@ -289,8 +274,6 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
     s.leaf_bits.assign(local.size() * hood.words, 0);
     s.dir.resize(order.size());
     s.segment.resize(order.size());
-    const Vec3f origin_f = origin_W.cast<float>();
-    const float inv_vs_f = static_cast<float>(inv_vs);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, local.size(), 16),
                       [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t b = r.begin(); b < r.end(); ++b) {
@@ -449,28 +432,17 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
     const float floor_w = static_cast<float>(config_.weight_floor);
     const float vs_f = static_cast<float>(vs);
     auto integrateCell = [&](std::size_t cell_index, detail::TsdfLeafCache::Accessor& acc) -> std::size_t {
-        detail::TsdfLeafCache cache(codec);
-        std::size_t updates = 0;
-        // The voxel updates go straight into the packed leaves.
-        struct Sink {
-            detail::TsdfLeafCache& cache;
-            detail::TsdfLeafCache::Accessor& acc;
-            std::size_t& updates;
-            float max_weight;
-            bool enterLeaf(const Coord& origin) { return cache.enterLeaf(origin, acc); }
-            void update(const int*, unsigned offset, float sdf, float w) {
-                cache.updateAt(offset, sdf, w, max_weight);
-                ++updates;
-            }
-        } sink{cache, acc, updates, max_weight};
+        // The voxel updates go straight into the packed leaves of the block's neighbourhood.
+        detail::BlockLeafTable table(hood, codec, max_weight);
         for (std::uint32_t i = cell_begin[cell_index]; i < cell_begin[cell_index + 1]; ++i) {
-            const LocalBlock& lb = local[by_cell[i]];
+            const std::uint32_t b = by_cell[i];
+            const LocalBlock& lb = local[b];
             const float eps = blocks.entry(lb.slot).truncation_m;
             const float inv_dropoff = eps > vs_f ? 1.0f / (eps - vs_f) : 0.0f;
             // No normal (isolated degenerate block): the ray direction (sdf along the ray).
             const bool has_normal = lb.normal.squaredNorm() > 0.0;
             const Vec3f block_normal = lb.normal.cast<float>();
-            cache.prefetch(blocks.blockCoord(lb.slot), acc);
+            table.load(blocks.blockCoord(lb.slot), s.leaf_bits.data() + b * hood.words, acc);
             for (std::uint32_t k = lb.begin; k < lb.end; ++k) {
                 const Vec3f& p = points_W[order[k]];
                 const Vec3f& dir = s.dir[k];
@@ -478,10 +450,10 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
                 // incidenceWeight(normal, origin_W, p, floor_w), from the unit ray direction.
                 const float cos_incidence = -normal.dot(dir);
                 const float w_inc = has_normal ? std::clamp(cos_incidence, floor_w, 1.0f) : 1.0f;
-                detail::integrateRay(s.segment[k], p, dir, normal, w_inc, eps, vs_f, inv_dropoff, sink);
+                detail::integrateRay(s.segment[k], p, dir, normal, w_inc, eps, vs_f, inv_dropoff, table);
             }
         }
-        return updates;
+        return table.updates();
     };
     const std::size_t num_cells = cell_begin.size() - 1;
     s.updates_per_cell.assign(num_cells, 0);

@@ -10,6 +10,22 @@
 
 namespace vdbmap::detail {
 
+/// Running weighted average of one packed voxel (paper Sec. 4.2):
+/// D' = (W D + w d) / (W + w), W' = min(W + w, max_weight); an unobserved voxel (its bit in
+/// the leaf's value mask off) takes d, w and is marked observed.
+inline void runningAverage(std::uint32_t& value, std::uint64_t& mask_word, std::uint64_t bit,
+                           float sdf_m, float w, float max_weight, const TsdfCodec& codec) {
+    if (mask_word & bit) {
+        const float W = codec.weight(value);
+        const float D = codec.sdf(value);
+        const float sum = W + w;
+        value = codec.encode((W * D + w * sdf_m) / sum, sum < max_weight ? sum : max_weight);
+    } else {
+        mask_word |= bit;
+        value = codec.encode(sdf_m, w < max_weight ? w : max_weight);
+    }
+}
+
 /// Raw access to the packed values and the value mask of the TSDF leaf that holds the last
 /// voxel asked for. One per thread; the tree's topology must not change while it is in use
 /// (the leaves are allocated before the voxel loop), so the accessor is the unregistered
@@ -44,17 +60,6 @@ public:
         return values_ != nullptr;
     }
 
-    /// Makes the leaf of block `block` (origin 8 * block) the fetched one and asks the CPU to
-    /// bring its 2 KiB of values into the cache: a block's points update voxels all over its
-    /// leaf, and after the other blocks of a scan the leaf is rarely still cached.
-    void prefetch(const openvdb::Coord& block, Accessor& tree) {
-        const openvdb::Coord origin(block.x() * TsdfLeaf::DIM, block.y() * TsdfLeaf::DIM,
-                                    block.z() * TsdfLeaf::DIM);
-        if (!fetch(origin, tree)) return;
-        constexpr std::size_t kLine = 64 / sizeof(std::uint32_t);
-        for (std::size_t i = 0; i < TsdfLeaf::SIZE; i += kLine) __builtin_prefetch(values_ + i, 1);
-    }
-
     /// Running weighted average of one voxel of the fetched leaf (paper Sec. 4.2):
     /// D' = (W D + w d) / (W + w), W' = min(W + w, max_weight); an unobserved voxel takes d, w.
     void update(const openvdb::Coord& ijk, float sdf_m, float w, float max_weight) {
@@ -63,18 +68,8 @@ public:
 
     /// update() by the voxel's offset in the fetched leaf.
     void updateAt(unsigned off, float sdf_m, float w, float max_weight) {
-        std::uint64_t& word = mask_[off >> 6];
-        const std::uint64_t bit = std::uint64_t{1} << (off & 63);
-        std::uint32_t& value = values_[off];
-        if (word & bit) {
-            const float W = codec_.weight(value);
-            const float D = codec_.sdf(value);
-            const float sum = W + w;
-            value = codec_.encode((W * D + w * sdf_m) / sum, sum < max_weight ? sum : max_weight);
-        } else {
-            word |= bit;
-            value = codec_.encode(sdf_m, w < max_weight ? w : max_weight);
-        }
+        runningAverage(values_[off], mask_[off >> 6], std::uint64_t{1} << (off & 63), sdf_m, w,
+                       max_weight, codec_);
     }
 
     /// Like update(), but only for voxels that are already observed. Returns whether it was.
