@@ -117,6 +117,8 @@ int main(int argc, char** argv) {
         cfg.truncation.mode = parseTruncationMode(mode);
         cfg.truncation.min_m = eps_min;
         cfg.truncation.max_m = eps_max;
+        // As the stage does: n_ref from the default surface density, scaled with the block size.
+        cfg.truncation.reference_points = referencePointsForDensity(156.25, voxel);
         cfg.space_carving = carving;
         AtsdfIntegrator integrator(map, cfg);
         std::vector<double> ms;

@@ -59,3 +59,16 @@ TEST_CASE("Truncation parameters are validated", "[tsdf][truncation]") {
     CHECK_THROWS_AS(parseTruncationMode("adaptiv"), ConfigError);
     CHECK(parseTruncationMode("fixed") == TruncationMode::Fixed);
 }
+
+TEST_CASE("n_ref follows from a surface density and the block size", "[tsdf][truncation]") {
+    // 156.25 points per m^2 across an 8^3 block: 100 at 0.10 m voxels (0.8 m blocks), 6.25 at
+    // 0.025 m (0.2 m blocks), so the same density gives the same eps at any voxel size.
+    CHECK(referencePointsForDensity(156.25, 0.10) == Approx(100.0));
+    CHECK(referencePointsForDensity(156.25, 0.025) == Approx(6.25));
+    TruncationParams coarse, fine;
+    coarse.reference_points = referencePointsForDensity(156.25, 0.10);
+    fine.reference_points = referencePointsForDensity(156.25, 0.025);
+    // A flat surface sampled at 1000 points per m^2 in both grids.
+    const double n_coarse = 1000.0 * 0.8 * 0.8, n_fine = 1000.0 * 0.2 * 0.2;
+    CHECK(truncationFor(coarse, plane(0.9), n_coarse) == Approx(truncationFor(fine, plane(0.9), n_fine)));
+}

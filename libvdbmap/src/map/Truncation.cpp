@@ -33,6 +33,11 @@ void validateTruncation(const TruncationParams& p, const std::string& who) {
         bad("reference_points", p.reference_points, "> 0");
 }
 
+double referencePointsForDensity(double density_pts_m2, double voxel_size_m) {
+    const double block_m = 8.0 * voxel_size_m;
+    return density_pts_m2 * block_m * block_m;
+}
+
 double truncationFor(const TruncationParams& p, const PlaneEstimate& plane, double n) {
     if (p.mode == TruncationMode::Fixed) return p.max_m;
     // Degenerate block (too few / collinear / identical points): the sparse case, where the

@@ -3,6 +3,7 @@
 
 #include <openvdb/openvdb.h>
 
+#include <cmath>
 #include <memory>
 #include <sstream>
 
@@ -37,9 +38,13 @@ public:
         spec.add("truncation_max_m", "Upper bound eps_max of the truncation (the fixed value in fixed mode)",
                  max_m_, 0.30, "m");
         spec.add("flatness_k", "Weight k of the flatness in eps = k P_flat n_ref / n eps_max", k_, 1.0);
+        spec.add("reference_density_pts_m2",
+                 "Surface density giving n_ref = density * (8 voxel)^2, the points per block at which a "
+                 "flat block gets k * eps_max (n enters Eq. 4 as n / n_ref)",
+                 density_ref_, 156.25, "1/m^2");
         spec.add("reference_points",
-                 "Points per block n_ref at which a flat block gets k * eps_max (n enters as n / n_ref)",
-                 n_ref_, 100.0);
+                 "n_ref given directly (points per block); 0 = from reference_density_pts_m2",
+                 n_ref_, 0.0);
         spec.add("min_points_for_pca", "Blocks with fewer points are degenerate (eps_max, ray normal)",
                  min_points_, 5);
         spec.add("weight_floor", "Lower bound of the incidence-angle weight, in (0, 1]", weight_floor_, 0.1);
@@ -62,7 +67,18 @@ public:
         config_.truncation.min_m = min_m_;
         config_.truncation.max_m = max_m_;
         config_.truncation.flatness_k = k_;
-        config_.truncation.reference_points = n_ref_;
+        if (!(n_ref_ >= 0.0) || !std::isfinite(n_ref_)) {
+            std::ostringstream os;
+            os << "option 'reference_points' must be finite and >= 0, got " << n_ref_;
+            failConfig(os.str());
+        }
+        if (!(density_ref_ > 0.0) || !std::isfinite(density_ref_)) {
+            std::ostringstream os;
+            os << "option 'reference_density_pts_m2' must be finite and > 0, got " << density_ref_;
+            failConfig(os.str());
+        }
+        config_.truncation.reference_points =
+            n_ref_ > 0.0 ? n_ref_ : referencePointsForDensity(density_ref_, voxel_size_m_);
         config_.min_points_for_pca = min_points_;
         config_.weight_floor = weight_floor_;
         config_.max_weight = max_weight_;
@@ -100,6 +116,7 @@ public:
         const std::string s(name());
         Report& r = ctx.report();
         r.stage(s, "scans", t.scans);
+        r.stage(s, "reference_points", config_.truncation.reference_points);
         r.stage(s, "points_read", read_total.points_read);
         r.stage(s, "points_integrated", t.points_integrated);
         r.stage(s, "dropped_non_finite", read_total.dropped_non_finite + t.dropped_non_finite);
@@ -126,7 +143,7 @@ public:
 private:
     double voxel_size_m_ = 0.10;
     std::string truncation_mode_;
-    double min_m_ = 0.10, max_m_ = 0.30, k_ = 1.0, n_ref_ = 100.0;
+    double min_m_ = 0.10, max_m_ = 0.30, k_ = 1.0, density_ref_ = 156.25, n_ref_ = 0.0;
     int min_points_ = 5;
     double weight_floor_ = 0.1, max_weight_ = 100.0;
     bool space_carving_ = false;

@@ -26,9 +26,15 @@ struct TruncationParams {
     /// k: importance of the flatness (unitless, because n enters relative to n_ref).
     double flatness_k = 1.0;
     /// n_ref: the point count per block at which a perfectly flat block gets k * eps_max.
-    /// The paper's n enters as n / n_ref, so k is unitless and independent of the voxel size.
+    /// The paper's n enters as n / n_ref, so k is unitless. The stage derives n_ref from a
+    /// surface density (referencePointsForDensity) so that eps adapts alike at every voxel size.
     double reference_points = 100.0;
 };
+
+/// n_ref of an 8^3 block of edge 8 * voxel_size_m from a reference density of measurement
+/// points per square metre of surface: density * (8 voxel)^2, the points a flat patch across
+/// the block holds at that density. 156.25 / m^2 gives 100 at 0.10 m voxels, 6.25 at 0.025 m.
+double referencePointsForDensity(double density_pts_m2, double voxel_size_m);
 
 /// Throws ConfigError if the parameters are not finite, min <= 0, max < min, k < 0 or
 /// reference_points <= 0. `who` prefixes the message (stage name).
