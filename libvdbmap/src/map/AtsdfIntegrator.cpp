@@ -33,6 +33,7 @@ constexpr std::size_t kPointChunk = 4096;
 /// (OpenVDB coordinates are 32-bit ints; the update reach must not overflow them).
 constexpr float kMaxIndex = 1e9f;
 
+/// Why a point is dropped (index + 1 into the per-chunk drop counts).
 enum PointStatus : std::uint8_t { kValid = 0, kNonFinite = 1, kAtOrigin = 2, kRange = 3 };
 
 int floorDiv(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
@@ -42,6 +43,15 @@ using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point t0) {
     return std::chrono::duration<double>(Clock::now() - t0).count();
 }
+
+/// Consecutive valid points [first, first + length) of one block, in scan order.
+struct PointRun {
+    std::uint32_t first = 0;
+    std::uint32_t length = 0;
+    std::int32_t slot = -1;   ///< BlockStatsGrid slot (-1: new block), then the local index
+    std::uint32_t offset = 0;  ///< position of the run among its block's points
+    Coord block;
+};
 
 /// The points of one block in this scan (a range of `order`) and what phase 2 derived.
 struct LocalBlock {
@@ -59,10 +69,9 @@ using detail::LeafNeighbourhood;
 /// Per-scan buffers of integrateScan, kept between scans.
 struct AtsdfIntegrator::Scratch {
     std::vector<Vec3f> points_W;             ///< the LiDAR-frame overload's transformed points
-    std::vector<std::uint8_t> status;        ///< PointStatus per point
-    std::vector<Coord> block_of;             ///< block of each valid point
-    std::vector<std::int32_t> slot_of;       ///< its BlockStatsGrid slot (-1: not yet created)
-    std::vector<std::int32_t> local_of_point;
+    std::vector<std::vector<PointRun>> runs;  ///< per chunk of points
+    std::vector<std::array<std::size_t, 3>> chunk_drops;  ///< per chunk: non-finite, origin, range
+    std::vector<std::int32_t> local_of_point;  ///< local block of each point (space carving only)
     std::vector<std::int32_t> local_of_slot;  ///< block slot -> local index (-1 between scans)
     std::vector<LocalBlock> local;
     std::vector<std::uint32_t> count;
@@ -165,33 +174,50 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
     const float max_range2 = static_cast<float>(std::min(config_.max_range_m, 1e18) * std::min(config_.max_range_m, 1e18));
     auto t0 = Clock::now();
 
-    // ---- Phase 1: classify the points and look up their blocks (parallel, read-only), then
-    // create the new blocks and bin the points by block in scan order (serial, no tree walks
-    // for blocks that already exist).
-    s.status.resize(n_points);
-    s.block_of.resize(n_points);
-    s.slot_of.resize(n_points);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n_points, kPointChunk),
+    // ---- Phase 1: bin the valid points by 8^3 block, in scan order within each block.
+    // (a) parallel over chunks of points: classify each point and cut the chunk into runs of
+    //     consecutive valid points of the same block (a scan line stays in a block for many
+    //     points), looking up each run's block once;
+    // (b) serial over the runs, in scan order: create the blocks first seen in this scan, give
+    //     each block of the scan its local index (order of first appearance) and each run its
+    //     place among the block's points;
+    // (c) parallel over chunks: scatter the runs into `order`.
+    // The result is the serial scan-order binning, for any thread count.
+    const std::size_t n_chunks = (n_points + kPointChunk - 1) / kPointChunk;
+    if (s.runs.size() < n_chunks) s.runs.resize(n_chunks);
+    s.chunk_drops.assign(n_chunks, {0, 0, 0});
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n_chunks, 1),
                       [&](const tbb::blocked_range<std::size_t>& r) {
         openvdb::tree::ValueAccessor<const openvdb::Int32Tree, false> index(blocks.indexTree());
-        // Consecutive points of a scan line mostly fall into the same block.
-        Coord prev_block = Coord::max();
-        std::int32_t prev_slot = -1;
-        for (std::size_t i = r.begin(); i < r.end(); ++i) {
-            const Vec3f& p = points_W[i];
-            if (!(std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z()))) {
-                s.status[i] = kNonFinite;
-                continue;
-            }
-            const float range2 = (p - origin_f).squaredNorm();
-            if (range2 < min_range2) {
-                s.status[i] = kAtOrigin;
-            } else if (range2 > max_range2 || !(std::abs(p.x() * inv_vs_f) < kMaxIndex &&
-                                                 std::abs(p.y() * inv_vs_f) < kMaxIndex &&
-                                                 std::abs(p.z() * inv_vs_f) < kMaxIndex)) {
-                s.status[i] = kRange;  // beyond max_range_m, or beyond the int voxel index range
-            } else {
-                s.status[i] = kValid;
+        for (std::size_t c = r.begin(); c < r.end(); ++c) {
+            std::vector<PointRun>& runs = s.runs[c];
+            runs.clear();
+            std::array<std::size_t, 3>& drops = s.chunk_drops[c];
+            Coord prev_block = Coord::max();
+            std::int32_t prev_slot = -1;
+            bool in_run = false;
+            const std::size_t end = std::min(n_points, (c + 1) * kPointChunk);
+            for (std::size_t i = c * kPointChunk; i < end; ++i) {
+                const Vec3f& p = points_W[i];
+                if (!(std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z()))) {
+                    ++drops[kNonFinite - 1];
+                    in_run = false;
+                    continue;
+                }
+                const float range2 = (p - origin_f).squaredNorm();
+                if (range2 < min_range2) {
+                    ++drops[kAtOrigin - 1];
+                    in_run = false;
+                    continue;
+                }
+                // Beyond max_range_m, or beyond the int voxel index range.
+                if (range2 > max_range2 || !(std::abs(p.x() * inv_vs_f) < kMaxIndex &&
+                                             std::abs(p.y() * inv_vs_f) < kMaxIndex &&
+                                             std::abs(p.z() * inv_vs_f) < kMaxIndex)) {
+                    ++drops[kRange - 1];
+                    in_run = false;
+                    continue;
+                }
                 // The voxel of p (cell [i - 0.5, i + 0.5) voxels), then its 8^3 block.
                 const Coord block(detail::floorToInt(p.x() * inv_vs_f + 0.5f) >> 3,
                                   detail::floorToInt(p.y() * inv_vs_f + 0.5f) >> 3,
@@ -199,48 +225,43 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
                 if (block != prev_block) {
                     prev_block = block;
                     prev_slot = index.getValue(block);
+                    in_run = false;
                 }
-                s.block_of[i] = block;
-                s.slot_of[i] = prev_slot;
+                if (in_run) {
+                    ++runs.back().length;
+                } else {
+                    runs.push_back({static_cast<std::uint32_t>(i), 1, prev_slot, 0, block});
+                    in_run = true;
+                }
             }
         }
     });
-    s.local_of_point.assign(n_points, -1);
     s.local.clear();
     s.count.clear();
-    {
-        s.local_of_slot.resize(blocks.size(), -1);
-        Coord prev_block = Coord::max();
-        std::int32_t prev_slot = -1;
-        for (std::size_t i = 0; i < n_points; ++i) {
-            switch (s.status[i]) {
-                case kNonFinite: ++st.dropped_non_finite; continue;
-                case kAtOrigin: ++st.dropped_at_origin; continue;
-                case kRange: ++st.dropped_range; continue;
-                default: break;
+    s.local_of_slot.resize(blocks.size(), -1);
+    for (std::size_t c = 0; c < n_chunks; ++c) {
+        st.dropped_non_finite += s.chunk_drops[c][kNonFinite - 1];
+        st.dropped_at_origin += s.chunk_drops[c][kAtOrigin - 1];
+        st.dropped_range += s.chunk_drops[c][kRange - 1];
+        for (PointRun& run : s.runs[c]) {
+            if (run.slot < 0) {  // a block first seen in this scan: created once, in scan order
+                run.slot = blocks.findOrCreate(run.block);
+                if (static_cast<std::size_t>(run.slot) >= s.local_of_slot.size())
+                    s.local_of_slot.resize(static_cast<std::size_t>(run.slot) + 1, -1);
             }
-            std::int32_t slot = s.slot_of[i];
-            if (slot < 0) {  // a block first seen in this scan: created once, in scan order
-                if (s.block_of[i] != prev_block) {
-                    prev_block = s.block_of[i];
-                    prev_slot = blocks.findOrCreate(prev_block);
-                }
-                slot = prev_slot;
-                if (static_cast<std::size_t>(slot) >= s.local_of_slot.size())
-                    s.local_of_slot.resize(static_cast<std::size_t>(slot) + 1, -1);
-            }
-            std::int32_t& l = s.local_of_slot[static_cast<std::size_t>(slot)];
+            std::int32_t& l = s.local_of_slot[static_cast<std::size_t>(run.slot)];
             if (l < 0) {
                 l = static_cast<std::int32_t>(s.local.size());
                 s.local.emplace_back();
-                s.local.back().slot = slot;
+                s.local.back().slot = run.slot;
                 s.count.push_back(0);
             }
-            s.local_of_point[i] = l;
-            ++s.count[static_cast<std::size_t>(l)];
+            run.slot = l;  // from here on: the local index
+            run.offset = s.count[static_cast<std::size_t>(l)];
+            s.count[static_cast<std::size_t>(l)] += run.length;
         }
-        for (const LocalBlock& b : s.local) s.local_of_slot[static_cast<std::size_t>(b.slot)] = -1;
     }
+    for (const LocalBlock& b : s.local) s.local_of_slot[static_cast<std::size_t>(b.slot)] = -1;
     st.points_integrated = n_points - st.dropped_non_finite - st.dropped_at_origin - st.dropped_range;
     std::vector<LocalBlock>& local = s.local;
     if (local.empty()) {
@@ -248,21 +269,28 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
         totals_ += st;
         return st;
     }
-    // Counting sort: `order` lists the valid points grouped by block, in scan order.
     std::vector<std::uint32_t>& order = s.order;
     order.resize(st.points_integrated);
     {
         std::uint32_t offset = 0;
         for (std::size_t b = 0; b < local.size(); ++b) {
             local[b].begin = offset;
-            local[b].end = offset;
             offset += s.count[b];
-        }
-        for (std::size_t i = 0; i < n_points; ++i) {
-            const std::int32_t l = s.local_of_point[i];
-            if (l >= 0) order[local[static_cast<std::size_t>(l)].end++] = static_cast<std::uint32_t>(i);
+            local[b].end = offset;
         }
     }
+    const bool need_local_of_point = config_.space_carving;
+    if (need_local_of_point) s.local_of_point.assign(n_points, -1);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n_chunks, 1),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t c = r.begin(); c < r.end(); ++c)
+            for (const PointRun& run : s.runs[c]) {
+                std::uint32_t* dst = order.data() + local[static_cast<std::size_t>(run.slot)].begin + run.offset;
+                for (std::uint32_t k = 0; k < run.length; ++k) dst[k] = run.first + k;
+                if (need_local_of_point)
+                    std::fill_n(s.local_of_point.data() + run.first, run.length, run.slot);
+            }
+    });
     st.bin_s = secondsSince(t0);
     t0 = Clock::now();
 
