@@ -16,6 +16,7 @@
 #include <fstream>
 #include <iostream>
 
+#include "ProjectiveBaseline.h"
 #include "support/SimLidar.h"
 #include "vdbmap/core/Timer.h"
 #include "vdbmap/map/AtsdfIntegrator.h"
@@ -97,7 +98,7 @@ int main(int argc, char** argv) {
     int num_scans = 100, threads = 1;
     double voxel = 0.10, eps_min = 0.10, eps_max = 0.30;
     std::string mode = "adaptive", cache;
-    bool carving = false;
+    bool carving = false, baseline = false;
     app.add_option("--scans", num_scans, "number of scans (>= 1)");
     app.add_option("--threads", threads, "TBB threads");
     app.add_option("--voxel", voxel, "voxel size in m");
@@ -106,6 +107,9 @@ int main(int argc, char** argv) {
     app.add_option("--mode", mode, "adaptive | fixed");
     app.add_option("--cache", cache, "binary file caching the generated scans");
     app.add_flag("--space-carving", carving, "enable space carving");
+    app.add_flag("--baseline", baseline,
+                 "also run the projective VDBFusion-style baseline (1 thread, fixed eps_max) on the "
+                 "same scans, after our integrator, and report both");
     CLI11_PARSE(app, argc, argv);
     try {
         if (num_scans < 1 || threads < 1) throw std::runtime_error("--scans and --threads must be >= 1");
@@ -194,6 +198,28 @@ int main(int argc, char** argv) {
         j["bytes_per_leaf_stats"] = map.blockStats().bytesPerBlock();
         j["blocks_with_stats"] = map.blockStats().size();
         j["peak_rss_mb"] = static_cast<double>(peakMemoryBytes()) / (1024.0 * 1024.0);
+        if (baseline) {
+            // Same scans and poses, same process; the baseline is single-threaded by design.
+            tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+            bench::ProjectiveBaseline base(voxel, static_cast<float>(eps_max));
+            std::size_t base_updates = 0;
+            Timer tb;
+            for (int i = 0; i < num_scans; ++i) {
+                const Isometry3d T_W_L = poseAt(Vec3d(1.0 * i, 0.3 * std::sin(0.1 * i), 1.73));
+                std::vector<Vec3f> points_W;
+                points_W.reserve(scans[static_cast<std::size_t>(i)].size());
+                const Eigen::Isometry3f T = T_W_L.cast<float>();
+                for (const Vec3f& p : scans[static_cast<std::size_t>(i)]) points_W.push_back(T * p);
+                base_updates += base.integrate(points_W, T_W_L.translation());
+            }
+            const double base_s = tb.elapsedSeconds();
+            j["baseline_seconds"] = base_s;
+            j["baseline_mpts_per_s"] = 1e-6 * static_cast<double>(points) / base_s;
+            j["baseline_ns_per_voxel_update"] = 1e9 * base_s / static_cast<double>(base_updates);
+            j["baseline_bytes_per_active_voxel"] =
+                static_cast<double>(base.memoryBytes()) / static_cast<double>(base.activeVoxelCount());
+            j["speedup_vs_baseline"] = base_s / seconds;
+        }
         std::cout << j.dump() << std::endl;
     } catch (const std::exception& e) {
         std::cerr << "bench_integration: " << e.what() << "\n";

@@ -344,7 +344,8 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
             const std::size_t own_bit = hood.bit(0, 0, 0);
             for (std::uint32_t k = lb.begin; k < lb.end; ++k) {
                 const Vec3f& p = points_W[order[k]];
-                const Vec3f dir = (p - origin_f).normalized();
+                const Vec3f ray = p - origin_f;
+                const Vec3f dir = ray * (1.0f / std::sqrt(ray.squaredNorm()));  // one division
                 const detail::RaySegment seg = detail::RaySegment::of(p, dir, eps, inv_vs_f);
                 s.dir[k] = dir;
                 s.segment[k] = seg;
@@ -356,9 +357,13 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
                     bits[own_bit / 64] |= std::uint64_t{1} << (own_bit % 64);
                     continue;
                 }
-                for (int x = std::max(lo.x(), -hood.radius); x <= std::min(hi.x(), hood.radius); ++x)
-                    for (int y = std::max(lo.y(), -hood.radius); y <= std::min(hi.y(), hood.radius); ++y)
-                        for (int z = std::max(lo.z(), -hood.radius); z <= std::min(hi.z(), hood.radius); ++z) {
+                const int R = hood.radius;
+                const int x0 = std::max(lo.x(), -R), x1 = std::min(hi.x(), R);
+                const int y0 = std::max(lo.y(), -R), y1 = std::min(hi.y(), R);
+                const int z0 = std::max(lo.z(), -R), z1 = std::min(hi.z(), R);
+                for (int x = x0; x <= x1; ++x)
+                    for (int y = y0; y <= y1; ++y)
+                        for (int z = z0; z <= z1; ++z) {
                             const std::size_t bit = hood.bit(x, y, z);
                             bits[bit / 64] |= std::uint64_t{1} << (bit % 64);
                         }
