@@ -21,6 +21,7 @@
 #include "vdbmap/io/LabelSet.h"
 #include "vdbmap/io/MeshIO.h"
 #include "vdbmap/io/PointCloudIO.h"
+#include "vdbmap/pipeline/DatasetSection.h"
 #include "vdbmap/render/Raycaster.h"
 #include "vdbmap/render/Visibility.h"
 #include "vdbmap/sim/SimScene.h"
@@ -35,6 +36,8 @@ struct EvalArgs {
     std::string json_path;
     std::string error_ply;
     std::string seq_dir;
+    std::string dataset_yaml;
+    std::vector<std::string> dataset_sets;
     std::string tau = "0.05,0.1,0.2";
     double cutoff_m = 0.5;
     double sample_spacing_m = 0.02;
@@ -88,26 +91,55 @@ nlohmann::json semanticJson(const vdbmap::SemanticMetrics& s) {
     j["unmatched_area_m2"] = s.unmatched_area_m2;
     j["classes"] = nlohmann::json::array();
     for (const auto& c : s.classes) {
+        nlohmann::json confused = nlohmann::json::array();
+        for (const auto& [id, area] : c.confused_m2) {
+            confused.push_back(
+                {{"id", id},
+                 {"name", id == 255 ? std::string("unlabelled") : label_set.name(id)},
+                 {"area_m2", area}});
+        }
         j["classes"].push_back({{"id", c.id},
                                 {"name", label_set.name(c.id)},
                                 {"area_m2", c.gt_area_m2},
                                 {"accuracy", c.accuracy},
-                                {"iou", c.iou}});
+                                {"iou", c.iou},
+                                {"confused_with", confused}});
     }
     return j;
 }
 
-// Prediction faces whose ground-truth point some input camera of the sequence (every camera
-// folder with images, all frames) sees; the sequence is read as a KITTI layout.
-std::vector<std::uint8_t> cameraSeenFaces(
-    const fs::path& seq, const vdbmap::GtLabelTransfer& transfer,
-    const std::vector<vdbmap::Vec3f>& gt_vertices,
-    const std::vector<std::array<std::uint32_t, 3>>& gt_triangles, const vdbmap::Raycaster& gt_rc) {
+// The input cameras that define the camera-seen area: the dataset section of --dataset (a
+// pipeline or dataset YAML, read as `vdbmap run` reads it, with --set dataset.<key>=value),
+// else SEQ/dataset.yaml (written by `vdbmap-sim --rig surround`), else SEQ as a KITTI layout
+// (calib.txt + poses.txt). `source` says which; null if there is none.
+std::shared_ptr<vdbmap::Dataset> cameraDataset(const EvalArgs& args, const fs::path& seq,
+                                               std::string& source) {
+    fs::path yaml = args.dataset_yaml;
+    if (yaml.empty() && fs::exists(seq / "dataset.yaml")) yaml = seq / "dataset.yaml";
+    if (!yaml.empty()) {
+        const vdbmap::DatasetSection section = vdbmap::loadDatasetSection(yaml, args.dataset_sets);
+        source = yaml.string();
+        return vdbmap::Dataset::open(section.config, section.base_dir);
+    }
+    if (!args.dataset_sets.empty()) {
+        throw vdbmap::ConfigError("vdbmap eval: --set needs a dataset YAML (--dataset, or " +
+                                  (seq / "dataset.yaml").string() + ")");
+    }
+    if (!fs::exists(seq / "calib.txt") || !fs::exists(seq / "poses.txt")) return nullptr;
     vdbmap::DatasetConfig config;
     config.format = "kitti";
     config.path = fs::absolute(seq).string();
-    const auto dataset = vdbmap::Dataset::open(config);
-    const std::vector<vdbmap::View> views = vdbmap::datasetViews(*dataset, true, false);
+    source = seq.string() + " (KITTI layout)";
+    return vdbmap::Dataset::open(config);
+}
+
+// Prediction faces whose ground-truth point some input camera of `dataset` (every camera with
+// images, every selected frame) sees.
+std::vector<std::uint8_t> cameraSeenFaces(
+    const vdbmap::Dataset& dataset, const vdbmap::GtLabelTransfer& transfer,
+    const std::vector<vdbmap::Vec3f>& gt_vertices,
+    const std::vector<std::array<std::uint32_t, 3>>& gt_triangles, const vdbmap::Raycaster& gt_rc) {
+    const std::vector<vdbmap::View> views = vdbmap::datasetViews(dataset, true, false);
     std::vector<vdbmap::Vec3f> normals(transfer.gt_face.size(), vdbmap::Vec3f::UnitZ());
     for (std::size_t f = 0; f < normals.size(); ++f) {
         const auto& t = gt_triangles[transfer.gt_face[f]];
@@ -257,21 +289,30 @@ void runEval(const EvalArgs& args, int& exit_code) {
               << s.mean_class_accuracy << "  mIoU " << s.miou << "  unlabelled "
               << s.unlabelled_fraction << "\n";
         const fs::path seq = args.seq_dir.empty() ? gt.parent_path() : fs::path(args.seq_dir);
-        if (fs::exists(seq / "calib.txt") && fs::exists(seq / "poses.txt")) {
+        std::string dataset_source;
+        const auto camera_dataset = cameraDataset(args, seq, dataset_source);
+        if (camera_dataset) {
             const std::vector<std::uint8_t> seen =
-                cameraSeenFaces(seq, transfer, gt_vertices, gt_triangles, gt_rc);
+                cameraSeenFaces(*camera_dataset, transfer, gt_vertices, gt_triangles, gt_rc);
             const vdbmap::SemanticMetrics o = vdbmap::scoreSemantics(transfer, tri_labels, &seen);
             nlohmann::json jo = semanticJson(o);
             jo["sequence"] = seq.string();
+            jo["dataset"] = dataset_source;
+            jo["cameras"] = nlohmann::json::array();
+            for (const auto& camera : camera_dataset->cameras())
+                jo["cameras"].push_back(camera.name);
+            jo["frames"] = camera_dataset->numFrames();
             jo["seen_fraction"] = s.matched_area_m2 > 0 ? o.matched_area_m2 / s.matched_area_m2 : 0.0;
             j["camera_seen"] = jo;
             table << "semantics (camera-seen area, " << 100.0 * jo["seen_fraction"].get<double>()
-                  << " % of the matched area)\n"
+                  << " % of the matched area; " << camera_dataset->cameras().size()
+                  << " camera(s) of " << dataset_source << ")\n"
                   << "  overall accuracy " << o.overall_accuracy << "  mean class accuracy "
                   << o.mean_class_accuracy << "  mIoU " << o.miou << "  unlabelled "
                   << o.unlabelled_fraction << "\n";
         } else {
-            table << "semantics (camera-seen area): skipped (no calib.txt + poses.txt in "
+            table << "semantics (camera-seen area): skipped (no --dataset, and neither "
+                     "dataset.yaml nor calib.txt + poses.txt in "
                   << seq.string() << ")\n";
             j["camera_seen"] = nullptr;
         }
@@ -347,7 +388,13 @@ void addEvalCommand(CLI::App& app, int& exit_code) {
         ->capture_default_str();
     cmd->add_option("--seq", args->seq_dir,
                     "Sequence folder whose cameras define the camera-seen area of the semantic "
-                    "scores (default: the parent of --gt)");
+                    "scores: its dataset.yaml, else its KITTI layout (default: the parent of "
+                    "--gt)");
+    cmd->add_option("--dataset", args->dataset_yaml,
+                    "YAML file (the run's pipeline, or a file with a `dataset:` section) whose "
+                    "dataset defines the camera-seen area, read as `vdbmap run` reads it");
+    cmd->add_option("--set", args->dataset_sets,
+                    "Override of the dataset YAML: dataset.<key>=value (as `vdbmap run --set`)");
     cmd->add_option("--stack-tolerance", args->stack_tolerance_m,
                     "Ground-truth surfaces stacked closer than this (m, e.g. a lane marking on "
                     "the asphalt): the outer one along the face normal labels the face")

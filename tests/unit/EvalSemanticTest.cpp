@@ -58,12 +58,22 @@ TEST_CASE("A known label swap gives accuracy 1 - swapped fraction", "[eval][sema
     CHECK(m.mean_class_accuracy == Approx(0.7));
     // Per class: TP = 35, FN = 15, FP = 15: IoU = 35 / 65.
     CHECK(m.miou == Approx(35.0 / 65.0));
+    // The confusion rows: 15 m^2 of each class went to the other one.
+    REQUIRE(m.classes.size() == 2);
+    REQUIRE(m.classes[0].confused_m2.size() == 1);
+    CHECK(m.classes[0].confused_m2[0].first == 2);
+    CHECK(m.classes[0].confused_m2[0].second == Approx(15.0));
+    CHECK(m.classes[1].confused_m2[0].first == 0);
     // Unlabelled faces count as wrong and are reported.
     std::vector<std::uint8_t> partial = g.labels;
     for (std::size_t f = 0; f < 20; ++f) partial[f] = 255;
     const SemanticMetrics u = evaluateSemantics(g.v, g.t, partial, gt, g.labels);
     CHECK(u.unlabelled_fraction == Approx(0.1));
     CHECK(u.overall_accuracy == Approx(0.9));
+    // The first row (10 m^2) is unlabelled: 5 m^2 of each class.
+    REQUIRE(u.classes[0].confused_m2.size() == 1);
+    CHECK(u.classes[0].confused_m2[0].first == 255);
+    CHECK(u.classes[0].confused_m2[0].second == Approx(5.0));
 }
 
 TEST_CASE("Prediction far from the ground truth is unmatched", "[eval][semantic]") {
