@@ -13,6 +13,7 @@
 #include "vdbmap/eval/CameraCoverage.h"
 #include "vdbmap/eval/GeometryMetrics.h"
 #include "vdbmap/eval/GtViews.h"
+#include "vdbmap/eval/SemanticBoundary.h"
 #include "vdbmap/eval/SemanticMetrics.h"
 #include "vdbmap/eval/TextureMetrics.h"
 #include "vdbmap/io/AtomicFile.h"
@@ -21,6 +22,7 @@
 #include "vdbmap/io/LabelSet.h"
 #include "vdbmap/io/MeshIO.h"
 #include "vdbmap/io/PointCloudIO.h"
+#include "vdbmap/mesh/MeshAdjacency.h"
 #include "vdbmap/pipeline/DatasetSection.h"
 #include "vdbmap/render/Raycaster.h"
 #include "vdbmap/render/Visibility.h"
@@ -42,6 +44,7 @@ struct EvalArgs {
     double cutoff_m = 0.5;
     double sample_spacing_m = 0.02;
     double stack_tolerance_m = 0.01;
+    double boundary_band_m = 0.1;
     std::vector<int> classes;
     bool quiet = false;
 };
@@ -148,6 +151,40 @@ std::vector<std::uint8_t> cameraSeenFaces(
         if (n.norm() > 0.0f) normals[f] = n.normalized();
     }
     return vdbmap::pointsSeenByViews(transfer.gt_point_W, normals, views, gt_rc);
+}
+
+// The scores of the faces in `base` (all if null) split by `near_boundary` (1 = the ground-truth
+// class changes within the band): area fraction and scores near class boundaries and inside.
+nlohmann::json boundarySplit(const vdbmap::GtLabelTransfer& transfer,
+                             const std::vector<std::uint8_t>& labels,
+                             const std::vector<std::uint8_t>& near_boundary,
+                             const std::vector<std::uint8_t>* base, double band_m,
+                             std::ostringstream& table) {
+    std::vector<std::uint8_t> near(near_boundary.size()), inside(near_boundary.size());
+    for (std::size_t f = 0; f < near.size(); ++f) {
+        const bool in_base = base == nullptr || (*base)[f] != 0;
+        near[f] = in_base && near_boundary[f] != 0;
+        inside[f] = in_base && near_boundary[f] == 0;
+    }
+    const vdbmap::SemanticMetrics n = vdbmap::scoreSemantics(transfer, labels, &near);
+    const vdbmap::SemanticMetrics i = vdbmap::scoreSemantics(transfer, labels, &inside);
+    const double total = n.matched_area_m2 + i.matched_area_m2;
+    const double n_wrong = (1.0 - n.overall_accuracy) * n.matched_area_m2;
+    const double i_wrong = (1.0 - i.overall_accuracy) * i.matched_area_m2;
+    nlohmann::json j;
+    j["band_m"] = band_m;
+    j["near_area_fraction"] = total > 0 ? n.matched_area_m2 / total : 0.0;
+    j["near_accuracy"] = n.overall_accuracy;
+    j["inside_accuracy"] = i.overall_accuracy;
+    j["wrong_area_near_m2"] = n_wrong;
+    j["wrong_area_inside_m2"] = i_wrong;
+    j["wrong_near_fraction"] = n_wrong + i_wrong > 0 ? n_wrong / (n_wrong + i_wrong) : 0.0;
+    table << "  within " << band_m
+          << " m of a class boundary: " << 100.0 * j["near_area_fraction"].get<double>()
+          << " % of the area, accuracy " << n.overall_accuracy << "; elsewhere accuracy "
+          << i.overall_accuracy << "; " << 100.0 * j["wrong_near_fraction"].get<double>()
+          << " % of the wrong area is near a boundary\n";
+    return j;
 }
 
 void runEval(const EvalArgs& args, int& exit_code) {
@@ -284,10 +321,23 @@ void runEval(const EvalArgs& args, int& exit_code) {
         j["mesh"] = sem_path.string();
         j["stack_tolerance_m"] = args.stack_tolerance_m;
         j["faces_labelled_by_outer_stacked_surface"] = transfer.stacked_resolved;
+        // Issue #6: no unlabelled face may have a labelled neighbour.
+        const std::size_t unknown_next_to_known =
+            vdbmap::unlabelledNextToLabelled(labels, vdbmap::faceAdjacency(sem_mesh));
+        j["unlabelled_faces_next_to_labelled"] = unknown_next_to_known;
         table << std::setprecision(4) << "semantics (all area)\n"
               << "  overall accuracy " << s.overall_accuracy << "  mean class accuracy "
               << s.mean_class_accuracy << "  mIoU " << s.miou << "  unlabelled "
-              << s.unlabelled_fraction << "\n";
+              << s.unlabelled_fraction
+              << " (unlabelled faces next to a labelled one: " << unknown_next_to_known << ")\n";
+        std::vector<std::uint8_t> near_boundary;
+        if (args.boundary_band_m > 0) {
+            near_boundary = vdbmap::nearGtClassBoundary(sv, st, transfer, gt_rc, gt_tri_labels,
+                                                        args.boundary_band_m, args.cutoff_m,
+                                                        args.stack_tolerance_m);
+            j["boundary"] = boundarySplit(transfer, tri_labels, near_boundary, nullptr,
+                                          args.boundary_band_m, table);
+        }
         const fs::path seq = args.seq_dir.empty() ? gt.parent_path() : fs::path(args.seq_dir);
         std::string dataset_source;
         const auto camera_dataset = cameraDataset(args, seq, dataset_source);
@@ -310,6 +360,10 @@ void runEval(const EvalArgs& args, int& exit_code) {
                   << "  overall accuracy " << o.overall_accuracy << "  mean class accuracy "
                   << o.mean_class_accuracy << "  mIoU " << o.miou << "  unlabelled "
                   << o.unlabelled_fraction << "\n";
+            if (!near_boundary.empty()) {
+                j["camera_seen"]["boundary"] = boundarySplit(transfer, tri_labels, near_boundary,
+                                                             &seen, args.boundary_band_m, table);
+            }
         } else {
             table << "semantics (camera-seen area): skipped (no --dataset, and neither "
                      "dataset.yaml nor calib.txt + poses.txt in "
@@ -398,6 +452,10 @@ void addEvalCommand(CLI::App& app, int& exit_code) {
     cmd->add_option("--stack-tolerance", args->stack_tolerance_m,
                     "Ground-truth surfaces stacked closer than this (m, e.g. a lane marking on "
                     "the asphalt): the outer one along the face normal labels the face")
+        ->capture_default_str();
+    cmd->add_option("--boundary-band", args->boundary_band_m,
+                    "Also score the semantics split into faces within this distance (m) of a "
+                    "ground-truth class boundary and the rest; 0 = off")
         ->capture_default_str();
     cmd->add_option("--classes", args->classes,
                     "Score geometry only where the nearest ground-truth face has one of these "
