@@ -15,6 +15,29 @@ if(TARGET vdbmap_sim AND TARGET vdbmap_app)
 '$<TARGET_FILE:vdbmap_app>' eval --gt '${_seq}/gt' --run '${_run}' --json '${_run}/eval.json' \
 --tau 0.05 && grep -q '\"fscore\": 1.0' '${_run}/eval.json'")
     set_tests_properties(eval_cli_gt_against_itself PROPERTIES DEPENDS sim_cli_street_tiny)
+    # The surround rig: a generic-layout sequence whose dataset.yaml gives eval the cameras of
+    # the camera-seen area (found next to gt/, or named with --dataset and --set).
+    set(_rig ${CMAKE_CURRENT_BINARY_DIR}/sim_eval_cli/rig)
+    set(_rig_run ${CMAKE_CURRENT_BINARY_DIR}/sim_eval_cli/rig_run)
+    add_test(NAME sim_cli_rig_tiny
+        COMMAND $<TARGET_FILE:vdbmap_sim> street -o ${_rig} --frames 2 --size 20 --rig surround
+                --rig-width 96 --rig-height 54 --gt-views 0 --quiet --threads 1)
+    add_test(NAME eval_cli_rig_camera_seen
+        COMMAND sh -c "mkdir -p '${_rig_run}/semantic' && \
+cp '${_rig}/gt/mesh.ply' '${_rig_run}/semantic/mesh.ply' && \
+'$<TARGET_FILE:vdbmap_app>' eval --gt '${_rig}/gt' --run '${_rig_run}' --json '${_rig_run}/a.json' && \
+grep -q 'rig/dataset.yaml' '${_rig_run}/a.json' && grep -q '\"rear\"' '${_rig_run}/a.json' && \
+grep -q '\"frames\": 2' '${_rig_run}/a.json' && \
+'$<TARGET_FILE:vdbmap_app>' eval --gt '${_rig}/gt' --run '${_rig_run}' --json '${_rig_run}/b.json' \
+--dataset '${_rig}/dataset.yaml' --set dataset.num_frames=1 && \
+grep -q '\"frames\": 1' '${_rig_run}/b.json'")
+    set_tests_properties(eval_cli_rig_camera_seen PROPERTIES DEPENDS sim_cli_rig_tiny)
+    add_test(NAME eval_cli_rig_bad_set_fails
+        COMMAND $<TARGET_FILE:vdbmap_app> eval --gt ${_rig}/gt --run ${_rig_run}
+                --dataset ${_rig}/dataset.yaml --set dataset.no_such_key=1)
+    set_tests_properties(eval_cli_rig_bad_set_fails PROPERTIES
+                         PASS_REGULAR_EXPRESSION "unknown key 'no_such_key'"
+                         DEPENDS eval_cli_rig_camera_seen)
     add_test(NAME eval_cli_missing_run_fails
         COMMAND $<TARGET_FILE:vdbmap_app> eval --gt ${_seq}/gt --run ${_run}_missing)
     set_tests_properties(eval_cli_missing_run_fails PROPERTIES WILL_FAIL TRUE

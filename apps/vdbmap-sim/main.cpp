@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// vdbmap-sim: writes a simulated sensor sequence with ground truth in the KITTI layout.
+// vdbmap-sim: writes a simulated sensor sequence with ground truth in the KITTI layout (or,
+// with --rig surround, the generic layout with four cameras and its dataset.yaml).
 #include <tbb/global_control.h>
 #include <unistd.h>
 
@@ -48,7 +49,9 @@ std::optional<fs::path> findSpotDir(const std::string& assets) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    CLI::App app{"vdbmap-sim: simulated LiDAR + camera sequences with ground truth (KITTI layout)"};
+    CLI::App app{
+        "vdbmap-sim: simulated LiDAR + camera sequences with ground truth (KITTI layout, or "
+        "the generic layout with --rig surround)"};
     vdbmap::SimOptions options;
     std::string out_dir;
     std::string assets;
@@ -63,8 +66,19 @@ int main(int argc, char** argv) {
     app.add_option("--lidar", options.lidar, "LiDAR preset: hdl64 or vls128 (default per scene)")
         ->check(CLI::IsMember({"hdl64", "vls128"}));
     app.add_option("--size", options.size_m, "Street length in metres (>= 20)");
-    app.add_option("--cameras", options.cameras, "1 (image_2) or 2 (image_2 + image_3)")
+    app.add_option("--cameras", options.cameras, "kitti rig: 1 (image_2) or 2 (image_2 + image_3)")
         ->check(CLI::Range(1, 2));
+    app.add_option("--rig", options.rig,
+                   "kitti: KITTI layout, forward camera(s) (default); surround: generic layout "
+                   "with front, left, rear and right cameras and a dataset.yaml")
+        ->check(CLI::IsMember({"kitti", "surround"}));
+    app.add_option("--rig-width", options.rig_options.width_px, "surround rig: image width, px")
+        ->check(CLI::Range(16, 8192));
+    app.add_option("--rig-height", options.rig_options.height_px, "surround rig: image height, px")
+        ->check(CLI::Range(16, 8192));
+    app.add_option("--rig-hfov-deg", options.rig_options.hfov_deg,
+                   "surround rig: horizontal field of view of each camera, deg")
+        ->check(CLI::Range(10.0, 170.0));
     app.add_flag("--occluders", options.occluders,
                  "Moving pedestrian boxes in some frames (images only)");
     app.add_option("--label-noise", options.label_noise_px,

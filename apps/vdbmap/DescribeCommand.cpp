@@ -81,6 +81,19 @@ int describe(const DescribeArgs& args) {
         std::cout << "dataset  [pipeline section `dataset:`]\n"
                   << "  Where the scans, poses, calibration and images come from (DATA.md)\n";
         printSpec(spec);
+        vdbmap::DatasetCameraConfig camera;
+        vdbmap::OptionSpec camera_spec;
+        camera.declareOptions(camera_spec);
+        std::cout
+            << "\n  cameras (generic layout): a list of camera maps, one per camera of a rig, "
+               "instead of the\n  single-camera keys image_dir ... calib_file; each map "
+               "takes these keys (paths relative to `path`):\n";
+        printSpec(camera_spec);
+        std::cout << "  e.g.\n"
+                  << "    cameras:\n"
+                  << "      - {name: front, image_dir: image_front, semantic_dir: semantic_front,\n"
+                  << "         intrinsics: [537, 537, 639.5, 359.5], T_C_L: [12 numbers]}\n"
+                  << "      - {image_dir: image_rear, calib_file: calib_rear.txt}\n";
         return 0;
     }
     if (args.what == "output") {

@@ -13,6 +13,7 @@
 #include "vdbmap/eval/CameraCoverage.h"
 #include "vdbmap/eval/GeometryMetrics.h"
 #include "vdbmap/eval/GtViews.h"
+#include "vdbmap/eval/SemanticBoundary.h"
 #include "vdbmap/eval/SemanticMetrics.h"
 #include "vdbmap/eval/TextureMetrics.h"
 #include "vdbmap/io/AtomicFile.h"
@@ -21,6 +22,8 @@
 #include "vdbmap/io/LabelSet.h"
 #include "vdbmap/io/MeshIO.h"
 #include "vdbmap/io/PointCloudIO.h"
+#include "vdbmap/mesh/MeshAdjacency.h"
+#include "vdbmap/pipeline/DatasetSection.h"
 #include "vdbmap/render/Raycaster.h"
 #include "vdbmap/render/Visibility.h"
 #include "vdbmap/sim/SimScene.h"
@@ -35,10 +38,13 @@ struct EvalArgs {
     std::string json_path;
     std::string error_ply;
     std::string seq_dir;
+    std::string dataset_yaml;
+    std::vector<std::string> dataset_sets;
     std::string tau = "0.05,0.1,0.2";
     double cutoff_m = 0.5;
     double sample_spacing_m = 0.02;
     double stack_tolerance_m = 0.01;
+    double boundary_band_m = 0.1;
     std::vector<int> classes;
     bool quiet = false;
 };
@@ -88,26 +94,55 @@ nlohmann::json semanticJson(const vdbmap::SemanticMetrics& s) {
     j["unmatched_area_m2"] = s.unmatched_area_m2;
     j["classes"] = nlohmann::json::array();
     for (const auto& c : s.classes) {
+        nlohmann::json confused = nlohmann::json::array();
+        for (const auto& [id, area] : c.confused_m2) {
+            confused.push_back(
+                {{"id", id},
+                 {"name", id == 255 ? std::string("unlabelled") : label_set.name(id)},
+                 {"area_m2", area}});
+        }
         j["classes"].push_back({{"id", c.id},
                                 {"name", label_set.name(c.id)},
                                 {"area_m2", c.gt_area_m2},
                                 {"accuracy", c.accuracy},
-                                {"iou", c.iou}});
+                                {"iou", c.iou},
+                                {"confused_with", confused}});
     }
     return j;
 }
 
-// Prediction faces whose ground-truth point some input camera of the sequence (every camera
-// folder with images, all frames) sees; the sequence is read as a KITTI layout.
-std::vector<std::uint8_t> cameraSeenFaces(
-    const fs::path& seq, const vdbmap::GtLabelTransfer& transfer,
-    const std::vector<vdbmap::Vec3f>& gt_vertices,
-    const std::vector<std::array<std::uint32_t, 3>>& gt_triangles, const vdbmap::Raycaster& gt_rc) {
+// The input cameras that define the camera-seen area: the dataset section of --dataset (a
+// pipeline or dataset YAML, read as `vdbmap run` reads it, with --set dataset.<key>=value),
+// else SEQ/dataset.yaml (written by `vdbmap-sim --rig surround`), else SEQ as a KITTI layout
+// (calib.txt + poses.txt). `source` says which; null if there is none.
+std::shared_ptr<vdbmap::Dataset> cameraDataset(const EvalArgs& args, const fs::path& seq,
+                                               std::string& source) {
+    fs::path yaml = args.dataset_yaml;
+    if (yaml.empty() && fs::exists(seq / "dataset.yaml")) yaml = seq / "dataset.yaml";
+    if (!yaml.empty()) {
+        const vdbmap::DatasetSection section = vdbmap::loadDatasetSection(yaml, args.dataset_sets);
+        source = yaml.string();
+        return vdbmap::Dataset::open(section.config, section.base_dir);
+    }
+    if (!args.dataset_sets.empty()) {
+        throw vdbmap::ConfigError("vdbmap eval: --set needs a dataset YAML (--dataset, or " +
+                                  (seq / "dataset.yaml").string() + ")");
+    }
+    if (!fs::exists(seq / "calib.txt") || !fs::exists(seq / "poses.txt")) return nullptr;
     vdbmap::DatasetConfig config;
     config.format = "kitti";
     config.path = fs::absolute(seq).string();
-    const auto dataset = vdbmap::Dataset::open(config);
-    const std::vector<vdbmap::View> views = vdbmap::datasetViews(*dataset, true, false);
+    source = seq.string() + " (KITTI layout)";
+    return vdbmap::Dataset::open(config);
+}
+
+// Prediction faces whose ground-truth point some input camera of `dataset` (every camera with
+// images, every selected frame) sees.
+std::vector<std::uint8_t> cameraSeenFaces(
+    const vdbmap::Dataset& dataset, const vdbmap::GtLabelTransfer& transfer,
+    const std::vector<vdbmap::Vec3f>& gt_vertices,
+    const std::vector<std::array<std::uint32_t, 3>>& gt_triangles, const vdbmap::Raycaster& gt_rc) {
+    const std::vector<vdbmap::View> views = vdbmap::datasetViews(dataset, true, false);
     std::vector<vdbmap::Vec3f> normals(transfer.gt_face.size(), vdbmap::Vec3f::UnitZ());
     for (std::size_t f = 0; f < normals.size(); ++f) {
         const auto& t = gt_triangles[transfer.gt_face[f]];
@@ -116,6 +151,40 @@ std::vector<std::uint8_t> cameraSeenFaces(
         if (n.norm() > 0.0f) normals[f] = n.normalized();
     }
     return vdbmap::pointsSeenByViews(transfer.gt_point_W, normals, views, gt_rc);
+}
+
+// The scores of the faces in `base` (all if null) split by `near_boundary` (1 = the ground-truth
+// class changes within the band): area fraction and scores near class boundaries and inside.
+nlohmann::json boundarySplit(const vdbmap::GtLabelTransfer& transfer,
+                             const std::vector<std::uint8_t>& labels,
+                             const std::vector<std::uint8_t>& near_boundary,
+                             const std::vector<std::uint8_t>* base, double band_m,
+                             std::ostringstream& table) {
+    std::vector<std::uint8_t> near(near_boundary.size()), inside(near_boundary.size());
+    for (std::size_t f = 0; f < near.size(); ++f) {
+        const bool in_base = base == nullptr || (*base)[f] != 0;
+        near[f] = in_base && near_boundary[f] != 0;
+        inside[f] = in_base && near_boundary[f] == 0;
+    }
+    const vdbmap::SemanticMetrics n = vdbmap::scoreSemantics(transfer, labels, &near);
+    const vdbmap::SemanticMetrics i = vdbmap::scoreSemantics(transfer, labels, &inside);
+    const double total = n.matched_area_m2 + i.matched_area_m2;
+    const double n_wrong = (1.0 - n.overall_accuracy) * n.matched_area_m2;
+    const double i_wrong = (1.0 - i.overall_accuracy) * i.matched_area_m2;
+    nlohmann::json j;
+    j["band_m"] = band_m;
+    j["near_area_fraction"] = total > 0 ? n.matched_area_m2 / total : 0.0;
+    j["near_accuracy"] = n.overall_accuracy;
+    j["inside_accuracy"] = i.overall_accuracy;
+    j["wrong_area_near_m2"] = n_wrong;
+    j["wrong_area_inside_m2"] = i_wrong;
+    j["wrong_near_fraction"] = n_wrong + i_wrong > 0 ? n_wrong / (n_wrong + i_wrong) : 0.0;
+    table << "  within " << band_m
+          << " m of a class boundary: " << 100.0 * j["near_area_fraction"].get<double>()
+          << " % of the area, accuracy " << n.overall_accuracy << "; elsewhere accuracy "
+          << i.overall_accuracy << "; " << 100.0 * j["wrong_near_fraction"].get<double>()
+          << " % of the wrong area is near a boundary\n";
+    return j;
 }
 
 void runEval(const EvalArgs& args, int& exit_code) {
@@ -252,26 +321,52 @@ void runEval(const EvalArgs& args, int& exit_code) {
         j["mesh"] = sem_path.string();
         j["stack_tolerance_m"] = args.stack_tolerance_m;
         j["faces_labelled_by_outer_stacked_surface"] = transfer.stacked_resolved;
+        // Issue #6: no unlabelled face may have a labelled neighbour.
+        const std::size_t unknown_next_to_known =
+            vdbmap::unlabelledNextToLabelled(labels, vdbmap::faceAdjacency(sem_mesh));
+        j["unlabelled_faces_next_to_labelled"] = unknown_next_to_known;
         table << std::setprecision(4) << "semantics (all area)\n"
               << "  overall accuracy " << s.overall_accuracy << "  mean class accuracy "
               << s.mean_class_accuracy << "  mIoU " << s.miou << "  unlabelled "
-              << s.unlabelled_fraction << "\n";
+              << s.unlabelled_fraction
+              << " (unlabelled faces next to a labelled one: " << unknown_next_to_known << ")\n";
+        std::vector<std::uint8_t> near_boundary;
+        if (args.boundary_band_m > 0) {
+            near_boundary = vdbmap::nearGtClassBoundary(sv, st, transfer, gt_rc, gt_tri_labels,
+                                                        args.boundary_band_m, args.cutoff_m,
+                                                        args.stack_tolerance_m);
+            j["boundary"] = boundarySplit(transfer, tri_labels, near_boundary, nullptr,
+                                          args.boundary_band_m, table);
+        }
         const fs::path seq = args.seq_dir.empty() ? gt.parent_path() : fs::path(args.seq_dir);
-        if (fs::exists(seq / "calib.txt") && fs::exists(seq / "poses.txt")) {
+        std::string dataset_source;
+        const auto camera_dataset = cameraDataset(args, seq, dataset_source);
+        if (camera_dataset) {
             const std::vector<std::uint8_t> seen =
-                cameraSeenFaces(seq, transfer, gt_vertices, gt_triangles, gt_rc);
+                cameraSeenFaces(*camera_dataset, transfer, gt_vertices, gt_triangles, gt_rc);
             const vdbmap::SemanticMetrics o = vdbmap::scoreSemantics(transfer, tri_labels, &seen);
             nlohmann::json jo = semanticJson(o);
             jo["sequence"] = seq.string();
+            jo["dataset"] = dataset_source;
+            jo["cameras"] = nlohmann::json::array();
+            for (const auto& camera : camera_dataset->cameras())
+                jo["cameras"].push_back(camera.name);
+            jo["frames"] = camera_dataset->numFrames();
             jo["seen_fraction"] = s.matched_area_m2 > 0 ? o.matched_area_m2 / s.matched_area_m2 : 0.0;
             j["camera_seen"] = jo;
             table << "semantics (camera-seen area, " << 100.0 * jo["seen_fraction"].get<double>()
-                  << " % of the matched area)\n"
+                  << " % of the matched area; " << camera_dataset->cameras().size()
+                  << " camera(s) of " << dataset_source << ")\n"
                   << "  overall accuracy " << o.overall_accuracy << "  mean class accuracy "
                   << o.mean_class_accuracy << "  mIoU " << o.miou << "  unlabelled "
                   << o.unlabelled_fraction << "\n";
+            if (!near_boundary.empty()) {
+                j["camera_seen"]["boundary"] = boundarySplit(transfer, tri_labels, near_boundary,
+                                                             &seen, args.boundary_band_m, table);
+            }
         } else {
-            table << "semantics (camera-seen area): skipped (no calib.txt + poses.txt in "
+            table << "semantics (camera-seen area): skipped (no --dataset, and neither "
+                     "dataset.yaml nor calib.txt + poses.txt in "
                   << seq.string() << ")\n";
             j["camera_seen"] = nullptr;
         }
@@ -347,10 +442,20 @@ void addEvalCommand(CLI::App& app, int& exit_code) {
         ->capture_default_str();
     cmd->add_option("--seq", args->seq_dir,
                     "Sequence folder whose cameras define the camera-seen area of the semantic "
-                    "scores (default: the parent of --gt)");
+                    "scores: its dataset.yaml, else its KITTI layout (default: the parent of "
+                    "--gt)");
+    cmd->add_option("--dataset", args->dataset_yaml,
+                    "YAML file (the run's pipeline, or a file with a `dataset:` section) whose "
+                    "dataset defines the camera-seen area, read as `vdbmap run` reads it");
+    cmd->add_option("--set", args->dataset_sets,
+                    "Override of the dataset YAML: dataset.<key>=value (as `vdbmap run --set`)");
     cmd->add_option("--stack-tolerance", args->stack_tolerance_m,
                     "Ground-truth surfaces stacked closer than this (m, e.g. a lane marking on "
                     "the asphalt): the outer one along the face normal labels the face")
+        ->capture_default_str();
+    cmd->add_option("--boundary-band", args->boundary_band_m,
+                    "Also score the semantics split into faces within this distance (m) of a "
+                    "ground-truth class boundary and the rest; 0 = off")
         ->capture_default_str();
     cmd->add_option("--classes", args->classes,
                     "Score geometry only where the nearest ground-truth face has one of these "

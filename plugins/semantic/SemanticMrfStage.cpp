@@ -144,7 +144,11 @@ void SemanticMrfStage::run(Context& ctx) {
     }
 
     const std::vector<View> views = datasetViews(dataset, false, true);
-    if (views.empty()) fail("the dataset has no semantic images (semantic_2 / semantic_3)");
+    if (views.empty()) {
+        fail(
+            "the dataset has no semantic images (KITTI semantic_2 / semantic_3, or a camera's "
+            "semantic_dir in the generic layout)");
+    }
     const std::size_t expected_views = dataset.numFrames() * dataset.cameras().size();
     if (views.size() < expected_views) {
         logWarn(stage + ": " + std::to_string(expected_views - views.size()) + " of " +

@@ -63,6 +63,9 @@ TEST_CASE("cli: help, version and describe succeed", "[cli]") {
     CHECK(out.find("double") != std::string::npos);
     CHECK(vdbmap("describe dataset", &out) == 0);
     CHECK(out.find("path") != std::string::npos);
+    // The generic layout's camera maps are documented with their own keys.
+    CHECK(out.find("cameras (generic layout)") != std::string::npos);
+    CHECK(out.find("(required)") != std::string::npos);  // image_dir of a camera map
     CHECK(vdbmap("describe output", &out) == 0);
     CHECK(out.find("write_map") != std::string::npos);
 }

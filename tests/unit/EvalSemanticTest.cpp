@@ -2,6 +2,7 @@
 #include <catch2/catch.hpp>
 
 #include "vdbmap/Error.h"
+#include "vdbmap/eval/SemanticBoundary.h"
 #include "vdbmap/eval/SemanticMetrics.h"
 #include "vdbmap/render/Raycaster.h"
 
@@ -58,12 +59,22 @@ TEST_CASE("A known label swap gives accuracy 1 - swapped fraction", "[eval][sema
     CHECK(m.mean_class_accuracy == Approx(0.7));
     // Per class: TP = 35, FN = 15, FP = 15: IoU = 35 / 65.
     CHECK(m.miou == Approx(35.0 / 65.0));
+    // The confusion rows: 15 m^2 of each class went to the other one.
+    REQUIRE(m.classes.size() == 2);
+    REQUIRE(m.classes[0].confused_m2.size() == 1);
+    CHECK(m.classes[0].confused_m2[0].first == 2);
+    CHECK(m.classes[0].confused_m2[0].second == Approx(15.0));
+    CHECK(m.classes[1].confused_m2[0].first == 0);
     // Unlabelled faces count as wrong and are reported.
     std::vector<std::uint8_t> partial = g.labels;
     for (std::size_t f = 0; f < 20; ++f) partial[f] = 255;
     const SemanticMetrics u = evaluateSemantics(g.v, g.t, partial, gt, g.labels);
     CHECK(u.unlabelled_fraction == Approx(0.1));
     CHECK(u.overall_accuracy == Approx(0.9));
+    // The first row (10 m^2) is unlabelled: 5 m^2 of each class.
+    REQUIRE(u.classes[0].confused_m2.size() == 1);
+    CHECK(u.classes[0].confused_m2[0].first == 255);
+    CHECK(u.classes[0].confused_m2[0].second == Approx(5.0));
 }
 
 TEST_CASE("Prediction far from the ground truth is unmatched", "[eval][semantic]") {
@@ -133,4 +144,36 @@ TEST_CASE("Scores on a face mask leave the other faces out", "[eval][semantic]")
     CHECK(masked.unlabelled_fraction == Approx(10.0 / 70.0));
     std::vector<std::uint8_t> short_mask(3, 1);
     CHECK_THROWS_AS(scoreSemantics(t, pred, &short_mask), InvalidInput);
+}
+
+TEST_CASE("Faces near a ground-truth class boundary are found", "[eval][semantic]") {
+    // Classes 0 | 2 change at x = 5. Triangle centroids sit 1/3 and 2/3 into their unit
+    // quad, so with a radius of 0.8 m (the 8 samples reach at least 0.8 cos(22.5 deg) = 0.74
+    // along x) exactly the two quad columns next to x = 5 are near: 2 x 10 x 2 = 40 faces.
+    const Grid g = grid(10);
+    const Raycaster gt(g.v, g.t);
+    const GtLabelTransfer transfer = transferGtLabels(g.v, g.t, gt, g.labels);
+    const std::vector<std::uint8_t> near =
+        nearGtClassBoundary(g.v, g.t, transfer, gt, g.labels, 0.8);
+    REQUIRE(near.size() == g.t.size());
+    std::size_t count = 0;
+    for (std::size_t f = 0; f < near.size(); ++f) {
+        const float x = (g.v[g.t[f][0]].x() + g.v[g.t[f][1]].x() + g.v[g.t[f][2]].x()) / 3.0f;
+        INFO("face " << f << " centroid x " << x);
+        CHECK(near[f] == ((x > 4.0f && x < 6.0f) ? 1 : 0));
+        count += near[f];
+    }
+    CHECK(count == 40);
+    // A mask on the near faces scores exactly them (20 m^2).
+    const SemanticMetrics m = scoreSemantics(transfer, g.labels, &near);
+    CHECK(m.matched_area_m2 == Approx(20.0));
+    CHECK_THROWS_AS(nearGtClassBoundary(g.v, g.t, transfer, gt, g.labels, 0.0), InvalidInput);
+}
+
+TEST_CASE("Unlabelled faces with a labelled neighbour are counted", "[eval][semantic]") {
+    const std::vector<std::uint8_t> labels{255, 3, 255, 255, 7};
+    // 0-1: unknown next to known; 2-3: both unknown; 3-4: unknown next to known; 0-4 again 0.
+    CHECK(unlabelledNextToLabelled(labels, {{0, 1}, {2, 3}, {3, 4}, {0, 4}}) == 2);
+    CHECK(unlabelledNextToLabelled(labels, {{2, 3}}) == 0);
+    CHECK_THROWS_AS(unlabelledNextToLabelled(labels, {{0, 5}}), InvalidInput);
 }

@@ -4,6 +4,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <string>
 
 #include "vdbmap/Error.h"
@@ -111,6 +112,13 @@ SemanticMetrics scoreSemantics(const GtLabelTransfer& transfer,
         s.gt_area_m2 = row;
         s.accuracy = confusion[c][c] / row;
         s.iou = confusion[c][c] / (row + col_sum[c] - confusion[c][c]);
+        for (int p = 0; p < 256; ++p) {
+            if (p != c && confusion[c][p] > 0) {
+                s.confused_m2.emplace_back(static_cast<std::uint8_t>(p), confusion[c][p]);
+            }
+        }
+        std::stable_sort(s.confused_m2.begin(), s.confused_m2.end(),
+                         [](const auto& a, const auto& b) { return a.second > b.second; });
         m.classes.push_back(s);
     }
     if (!m.classes.empty()) {

@@ -132,6 +132,28 @@ void writeKittiCalib(const std::filesystem::path& path, const KittiCalib& calib)
     writeFileAtomically(path, text);
 }
 
+void writeCameraCalib(const std::filesystem::path& path, const CameraCalib& calib) {
+    const CameraIntrinsics& K = calib.intrinsics;
+    char buffer[64];
+    const auto numbers = [&](const std::string& key, const std::vector<double>& values) {
+        std::string line = key + ":";
+        for (const double v : values) {
+            std::snprintf(buffer, sizeof(buffer), " %.17g", v);
+            line += buffer;
+        }
+        return line + "\n";
+    };
+    std::string text = numbers("K", {K.fx, 0, K.cx, 0, K.fy, K.cy, 0, 0, 1});
+    text += numbers("D", std::vector<double>(K.distortion.begin(), K.distortion.end()));
+    std::vector<double> T;
+    const Eigen::Matrix4d M = calib.T_C_L.matrix();
+    for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 4; ++c) T.push_back(M(r, c));
+    }
+    text += numbers("T", T);
+    writeFileAtomically(path, text);
+}
+
 Camera kittiCamera(const Mat34d& P_k, const Isometry3d& Tr, const std::string& image_folder,
                    const std::string& semantic_folder) {
     const Mat3d K = P_k.leftCols<3>();

@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "io/DatasetBuilder.h"
 #include "vdbmap/Error.h"
@@ -100,6 +102,16 @@ std::size_t Dataset::missingImages() const {
     for (const auto& per_camera : image_paths_) {
         for (const auto& p : per_camera) missing += p.empty() ? 1 : 0;
     }
+    return missing;
+}
+
+std::size_t Dataset::missingImages(std::size_t cam) const {
+    if (cam >= cameras_.size()) {
+        throw std::out_of_range("Dataset::missingImages: camera " + std::to_string(cam) + " of " +
+                                std::to_string(cameras_.size()));
+    }
+    std::size_t missing = 0;
+    for (const auto& per_camera : image_paths_) missing += per_camera[cam].empty() ? 1 : 0;
     return missing;
 }
 

@@ -15,7 +15,8 @@ class DatasetBuilder {
 public:
     /// KITTI odometry layout: velodyne/, calib.txt, poses.txt, times.txt, image_k/, semantic_k/.
     static void openKitti(Dataset& dataset);
-    /// Generic layout: scans_dir, poses_file (kitti | tum), one optional camera.
+    /// Generic layout: scans_dir, poses_file (kitti | tum), and no camera, the one camera of the
+    /// top-level keys, or the rig of `cameras:` (DatasetConfig::rig).
     static void openGeneric(Dataset& dataset);
 
     /// Sorted scan files of `folder` with a readable extension. Throws IoError if the folder

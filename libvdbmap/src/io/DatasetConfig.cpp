@@ -16,15 +16,18 @@ void DatasetConfig::declareOptions(OptionSpec& spec) {
     spec.add("num_frames", "Number of frames to use; -1 = all", num_frames, -1);
     spec.add("stride", "Use every n-th frame", stride, 1);
     spec.add<std::vector<std::string>>(
-        "cameras", "KITTI: camera folders to use (image_2, image_3); empty = all present", cameras,
-        {});
+        "cameras",
+        "KITTI: camera folders to use (image_2, image_3); empty = all present. Generic: a list "
+        "of camera maps (keys below)",
+        cameras, {});
     spec.add<std::string>("scans_dir", "Generic: folder of .bin/.pcd/.ply scans, name order",
                           scans_dir, "scans");
     spec.add<std::string>("poses_file", "Generic: LiDAR poses T_W_L, one line per scan", poses_file,
                           "poses.txt");
     spec.add<std::string>("pose_format", "Generic: 'kitti' (3x4 lines) or 'tum' (t x y z q)",
                           pose_format, "kitti");
-    spec.add<std::string>("image_dir", "Generic: the camera's image folder; empty = no camera",
+    spec.add<std::string>("image_dir",
+                          "Generic, one camera: its image folder; empty = none (or `cameras:`)",
                           image_dir, "");
     spec.add<std::string>("semantic_dir", "Generic: the camera's semantic id images", semantic_dir,
                           "");

@@ -44,6 +44,13 @@ std::vector<double> readTimes(const std::filesystem::path& path) {
 
 void DatasetBuilder::openKitti(Dataset& dataset) {
     const std::filesystem::path& root = dataset.root_;
+    if (!dataset.config_.rig.empty()) {
+        throw ConfigError(
+            "dataset: the KITTI layout takes 'cameras' as a list of folder names (image_2, "
+            "image_3), got " +
+            std::to_string(dataset.config_.rig.size()) +
+            " camera map(s); camera maps are for format 'generic'");
+    }
     const std::vector<std::filesystem::path> scans = listScans(root / "velodyne", "KITTI velodyne");
     const KittiCalib calib = readKittiCalib(root / "calib.txt");
     const std::filesystem::path poses_path = root / "poses.txt";

@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "pipeline/DatasetYaml.h"
 #include "pipeline/PipelineImpl.h"
 #include "pipeline/YamlOptions.h"
 #include "vdbmap/Error.h"
@@ -41,11 +42,7 @@ Override parseOverride(const std::string& text) {
     o.text = text;
     const std::string path = text.substr(0, eq);
     const std::string value = text.substr(eq + 1);
-    try {
-        o.value = YAML::Load(value);
-    } catch (const YAML::Exception&) {
-        o.value = YAML::Node(value);
-    }
+    o.value = detail::parseOverrideValue(value);
     auto startsWith = [&](const std::string& prefix) { return path.rfind(prefix, 0) == 0; };
     if (startsWith("dataset.")) {
         o.target = Override::Target::Dataset;
@@ -134,6 +131,22 @@ nlohmann::json optionToJson(const OptionValue& value) {
 nlohmann::json specToJson(const OptionSpec& spec) {
     nlohmann::json out = nlohmann::json::object();
     for (const auto& info : spec.options()) out[info.key] = optionToJson(currentValue(info));
+    return out;
+}
+
+/// The dataset section with every option; a rig's `cameras` as maps of every camera option.
+nlohmann::json datasetToJson(const DatasetConfig& config, const OptionSpec& spec) {
+    nlohmann::json out = specToJson(spec);
+    if (config.rig.empty()) return out;
+    out["cameras"] = nlohmann::json::array();
+    for (const DatasetCameraConfig& camera : config.rig) {
+        // declareOptions writes the defaults into the bound copy, so assign the values after.
+        DatasetCameraConfig copy;
+        OptionSpec camera_spec;
+        copy.declareOptions(camera_spec);
+        copy = camera;
+        out["cameras"].push_back(specToJson(camera_spec));
+    }
     return out;
 }
 
@@ -257,22 +270,13 @@ std::unique_ptr<Pipeline> Pipeline::fromString(const std::string& yaml_text,
 
     const YAML::Node dataset = root["dataset"];
     p.dataset.declareOptions(p.dataset_spec);
-    std::vector<detail::YamlEntry> dataset_entries = detail::yamlMapEntries(dataset, src, "dataset");
-    p.has_dataset = dataset.IsDefined() && !dataset.IsNull();
-    bool path_overridden = false;
+    std::vector<detail::DatasetOverride> dataset_overrides;
     for (const auto& o : overrides) {
-        if (o.target != Override::Target::Dataset) continue;
-        applyOverride(dataset_entries, o);
-        p.has_dataset = true;
-        path_overridden = path_overridden || o.key == "path";
+        if (o.target == Override::Target::Dataset)
+            dataset_overrides.push_back({o.key, o.value, o.text});
     }
-    if (p.has_dataset) {
-        detail::bindEntries(p.dataset_spec, dataset_entries, "dataset",
-                            dataset.IsDefined() ? detail::yamlLocation(src, dataset) : src);
-        if (path_overridden && !p.dataset.path.empty() && fs::path(p.dataset.path).is_relative()) {
-            p.dataset.path = fs::absolute(p.dataset.path).string();
-        }
-    }
+    p.has_dataset =
+        detail::bindDatasetSection(dataset, src, dataset_overrides, p.dataset, p.dataset_spec);
 
     const YAML::Node output = root["output"];
     p.output.declareOptions(p.output_spec);
@@ -346,7 +350,8 @@ std::string Pipeline::resolvedConfigJson() const {
     const Impl& p = *impl_;
     nlohmann::json config;
     config["source"] = p.source;
-    config["dataset"] = p.has_dataset ? specToJson(p.dataset_spec) : nlohmann::json(nullptr);
+    config["dataset"] =
+        p.has_dataset ? datasetToJson(p.dataset, p.dataset_spec) : nlohmann::json(nullptr);
     nlohmann::json plugins = nlohmann::json::array();
     for (std::size_t i = 0; i < p.plugin_specs.size(); ++i) {
         plugins.push_back({{"name", p.plugin_specs[i]}, {"file", p.plugin_files[i].string()}});

@@ -88,6 +88,10 @@ void Pipeline::run(const fs::path& output_dir, Report& report, bool quiet) {
             // DATA.md: a missing image or semantic file is no error, but the run reports it.
             report.set({"counts", "missing_images"}, dataset->missingImages());
             report.set({"counts", "missing_semantic_images"}, dataset->missingSemantics());
+            for (std::size_t cam = 0; cam < dataset->cameras().size(); ++cam) {
+                report.set({"counts", "missing_images_per_camera", dataset->cameras()[cam].name},
+                           dataset->missingImages(cam));
+            }
             report.set({"timings", "dataset_open_s"}, timer.elapsedSeconds());
             ctx.setDataset(std::move(dataset));
         }

@@ -1,18 +1,18 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "vdbmap/sim/SimSequence.h"
 
-#include <opencv2/imgproc.hpp>
-
 #include <chrono>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
 #include <nlohmann/json.hpp>
+#include <opencv2/imgproc.hpp>
 #include <random>
 #include <sstream>
 #include <unordered_set>
 
 #include "sim/SimImaging.h"
+#include "sim/SimRigOutput.h"
 #include "vdbmap/Error.h"
 #include "vdbmap/core/Log.h"
 #include "vdbmap/core/Progress.h"
@@ -105,6 +105,23 @@ SimSummary writeSimSequence(const SimOptions& options, const std::filesystem::pa
         throw ConfigError("vdbmap-sim: --cameras must be 1 or 2, got " +
                           std::to_string(options.cameras));
     }
+    const bool surround = options.rig == "surround";
+    if (options.rig != "kitti" && !surround) {
+        throw ConfigError("vdbmap-sim: --rig must be 'kitti' or 'surround', got '" + options.rig +
+                          "'");
+    }
+    if (surround && options.cameras != 1) {
+        throw ConfigError("vdbmap-sim: --cameras " + std::to_string(options.cameras) +
+                          " is for the kitti rig; the surround rig has its own four cameras");
+    }
+    std::vector<RigCamera> rig;
+    if (surround) {
+        try {
+            rig = surroundRig(options.rig_options);
+        } catch (const InvalidInput& e) {
+            throw ConfigError(std::string("vdbmap-sim: ") + e.what());
+        }
+    }
     if (options.label_noise_px < 0 || options.label_noise_px > 50) {
         throw ConfigError("vdbmap-sim: --label-noise must be in [0, 50] px, got " +
                           std::to_string(options.label_noise_px));
@@ -149,17 +166,26 @@ SimSummary writeSimSequence(const SimOptions& options, const std::filesystem::pa
             std::to_string(scene.numTriangles()) + " triangles, " + std::to_string(n_frames) +
             " frames, LiDAR " + lidar.name);
 
-    std::filesystem::create_directories(out_dir / "velodyne");
+    const std::string scans_dir = surround ? "scans" : "velodyne";
+    std::filesystem::create_directories(out_dir / scans_dir);
     std::filesystem::create_directories(out_dir / "gt" / "views");
     std::filesystem::create_directories(out_dir / "gt" / "textured");
 
     // Calibration, poses, times.
     const CameraIntrinsics K = kittiLikeIntrinsics();
-    KittiCalib calib;
-    for (int k = 0; k < 4; ++k) calib.P[k] = projection(K, cameraOffset(k));
-    calib.Tr = Tr;
-    writeKittiCalib(out_dir / "calib.txt", calib);
-    writeKittiPoses(out_dir / "poses.txt", T_W_C0);
+    if (surround) {
+        // Generic layout: the poses are the LiDAR's own, T_W_L = T_W_C0 * Tr.
+        std::vector<Isometry3d> T_W_L(n_frames);
+        for (std::size_t f = 0; f < n_frames; ++f) T_W_L[f] = T_W_C0[f] * Tr;
+        writeKittiPoses(out_dir / "poses.txt", T_W_L);
+        writeRigCalibration(out_dir, rig, T_V_L, scans_dir);
+    } else {
+        KittiCalib calib;
+        for (int k = 0; k < 4; ++k) calib.P[k] = projection(K, cameraOffset(k));
+        calib.Tr = Tr;
+        writeKittiCalib(out_dir / "calib.txt", calib);
+        writeKittiPoses(out_dir / "poses.txt", T_W_C0);
+    }
     {
         std::ostringstream times;
         times << std::setprecision(9);
@@ -185,7 +211,7 @@ SimSummary writeSimSequence(const SimOptions& options, const std::filesystem::pa
             const std::uint64_t frame_seed = options.seed * 1000003ULL + f * 7919ULL + 17ULL;
             const Isometry3d T_W_L = T_W_C0[f] * Tr;
             const LidarScan scan = simulateScan(lidar, raycaster, T_W_L, frame_seed);
-            writeBin(out_dir / "velodyne" / (frameName(f) + ".bin"), scan.points_L);
+            writeBin(out_dir / scans_dir / (frameName(f) + ".bin"), scan.points_L);
             summary.points += scan.points_L.size();
             for (const auto& p : scan.true_points_W) {
                 const auto q = (p / observed_voxel_m).array().floor().cast<std::int64_t>();
@@ -208,11 +234,9 @@ SimSummary writeSimSequence(const SimOptions& options, const std::filesystem::pa
                                                               occluder.triangleIndices());
                     occluder_frames.push_back(f);
                 }
-                for (int c = 0; c < options.cameras; ++c) {
-                    const int k = 2 + c;
-                    Isometry3d T_Ck_C0 = Isometry3d::Identity();
-                    T_Ck_C0.translation() = cameraOffset(k);
-                    const Isometry3d T_C_W = T_Ck_C0 * T_W_C0[f].inverse();
+                const auto render = [&](const CameraIntrinsics& K_c, const Isometry3d& T_C_W,
+                                        const std::string& image_folder,
+                                        const std::string& semantic_folder) {
                     std::vector<RenderLayer> layers{
                         RenderLayer{&scene.mesh, &scene.textures, &raycaster, &labels}};
                     if (occluder_rc) {
@@ -221,13 +245,26 @@ SimSummary writeSimSequence(const SimOptions& options, const std::filesystem::pa
                     }
                     RenderOptions ro;
                     ro.lambert = true;
-                    RenderedView view = renderView(layers, K, T_C_W, ro);
+                    RenderedView view = renderView(layers, K_c, T_C_W, ro);
                     applyVignettingAndExposure(view.color, imaging, exposure[f]);
                     addLabelNoise(view.labels, imaging, rng);
+                    writePng(out_dir / image_folder / (frameName(f) + ".png"), view.color);
+                    writePng(out_dir / semantic_folder / (frameName(f) + ".png"), view.labels);
+                };
+                if (surround) {
+                    // T_W_V = T_W_C0 * Tr * T_V_L^-1; camera c at T_W_V * T_V_C.
+                    const Isometry3d T_W_V = T_W_C0[f] * Tr * T_V_L.inverse();
+                    for (const RigCamera& camera : rig) {
+                        render(camera.intrinsics, (T_W_V * camera.T_V_C).inverse(),
+                               "image_" + camera.name, "semantic_" + camera.name);
+                    }
+                }
+                for (int c = 0; c < options.cameras && !surround; ++c) {
+                    const int k = 2 + c;
+                    Isometry3d T_Ck_C0 = Isometry3d::Identity();
+                    T_Ck_C0.translation() = cameraOffset(k);
                     const std::string kk = std::to_string(k);
-                    writePng(out_dir / ("image_" + kk) / (frameName(f) + ".png"), view.color);
-                    writePng(out_dir / ("semantic_" + kk) / (frameName(f) + ".png"),
-                             view.labels);
+                    render(K, T_Ck_C0 * T_W_C0[f].inverse(), "image_" + kk, "semantic_" + kk);
                 }
             }
             progress.tick();
@@ -297,7 +334,15 @@ SimSummary writeSimSequence(const SimOptions& options, const std::filesystem::pa
     info["frames"] = n_frames;
     info["lidar"] = lidar.name;
     info["size_m"] = options.size_m;
-    info["cameras"] = options.cameras;
+    info["rig"] = options.rig;
+    if (surround) {
+        info["cameras"] = nlohmann::json::array();
+        for (const RigCamera& camera : rig) info["cameras"].push_back(camera.name);
+        info["rig_image_px"] = {options.rig_options.width_px, options.rig_options.height_px};
+        info["rig_hfov_deg"] = options.rig_options.hfov_deg;
+    } else {
+        info["cameras"] = options.cameras;
+    }
     info["occluders"] = options.occluders;
     info["label_noise_px"] = options.label_noise_px;
     info["occluder_frames"] = occluder_frames;  // frames whose images show a pedestrian box

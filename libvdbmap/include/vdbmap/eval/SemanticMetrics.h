@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "vdbmap/core/Types.h"
@@ -17,6 +18,9 @@ struct ClassScore {
     double gt_area_m2 = 0;  ///< prediction area whose ground-truth class is `id`
     double accuracy = 0;    ///< recall of the class
     double iou = 0;
+    /// Where the rest of its area went: (predicted class, area in m^2) for every other
+    /// predicted class (255 = unlabelled), largest first. A row of the confusion matrix.
+    std::vector<std::pair<std::uint8_t, double>> confused_m2;
 };
 
 /// Semantic metrics of a labelled prediction mesh.

@@ -49,6 +49,11 @@ struct CameraCalib {
 /// Reads a K / D / T calibration file. Throws IoError naming the file and line.
 CameraCalib readCameraCalib(const std::filesystem::path& path);
 
+/// Writes a K / D / T calibration file (K row-major 3x3, D k1 k2 p1 p2 k3, T the row-major 3x4
+/// T_C_L; 17 significant digits, so readCameraCalib gives the same numbers), atomically.
+/// Throws IoError.
+void writeCameraCalib(const std::filesystem::path& path, const CameraCalib& calib);
+
 /// Isometry from 12 (3x4) or 16 (4x4, last row 0 0 0 1) row-major numbers. Throws
 /// InvalidInput naming `what` on another count or a bad last row.
 Isometry3d isometryFromRowMajor(const std::vector<double>& values, const std::string& what);

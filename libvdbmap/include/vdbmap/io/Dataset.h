@@ -10,6 +10,7 @@
 
 #include "vdbmap/core/Types.h"
 #include "vdbmap/io/Camera.h"
+#include "vdbmap/io/DatasetCameraConfig.h"
 
 namespace vdbmap {
 
@@ -19,7 +20,13 @@ class LabelSet;
 /// The `dataset:` section of a pipeline (DATA.md). Declared through an OptionSpec so that the
 /// YAML checks and `vdbmap describe dataset` work as for stages.
 /// Relative `path` and `labels_file` resolve against the YAML file's folder; the generic
-/// layout's scans_dir, poses_file, image_dir, semantic_dir and calib_file against `path`.
+/// layout's scans_dir, poses_file, image_dir, semantic_dir and calib_file (also those of each
+/// `cameras:` entry) against `path`.
+///
+/// Cameras of the generic layout: either one camera given by the top-level keys image_dir,
+/// semantic_dir, intrinsics, distortion, T_C_L / calib_file, or a rig given by `cameras:` as a
+/// list of maps (DatasetCameraConfig, bound into `rig`). In YAML the key `cameras` is a list of
+/// folder names for the KITTI layout and a list of maps for the generic layout.
 struct DatasetConfig {
     std::string format = "kitti";  ///< "kitti" (KITTI odometry layout) or "generic"
     std::string path;              ///< sequence folder (relative paths: relative to the YAML file)
@@ -30,11 +37,14 @@ struct DatasetConfig {
     int stride = 1;
     std::vector<std::string>
         cameras;  ///< KITTI: camera folders to use; empty = image_2, image_3 if present
+    /// Generic: the cameras of a rig (YAML `cameras:` as a list of maps); empty = the single
+    /// camera of the top-level keys below (or none). Setting both is a ConfigError.
+    std::vector<DatasetCameraConfig> rig;
     // generic layout
     std::string scans_dir = "scans";       ///< .bin / .pcd / .ply files, sorted by name
     std::string poses_file = "poses.txt";  ///< sensor (LiDAR) poses T_W_L
     std::string pose_format = "kitti";     ///< "kitti" (3x4 lines) or "tum"
-    std::string image_dir;                 ///< generic: one camera's image folder ("" = none)
+    std::string image_dir;                 ///< generic: the one camera's image folder ("" = none)
     std::string semantic_dir;              ///< generic: its semantic id images ("" = none)
     std::vector<double> intrinsics;        ///< generic: fx fy cx cy
     std::vector<double> distortion;        ///< generic: k1 k2 p1 p2 [k3]
@@ -42,7 +52,9 @@ struct DatasetConfig {
     std::string calib_file;   ///< generic: K/D/T file; replaces intrinsics, distortion, T_C_L
     std::string labels_file;  ///< label set "id, name, r g b" ("" = DATA.md default)
 
-    /// Declares every field (key = field name) with its doc, default and unit.
+    /// Declares every field (key = field name) with its doc, default and unit. `rig` is not a
+    /// field of the spec: the YAML binder fills it from `cameras:` when that holds maps
+    /// (loadDatasetSection, Pipeline), each map through DatasetCameraConfig::declareOptions.
     void declareOptions(OptionSpec& spec);
 };
 
@@ -104,6 +116,9 @@ public:
 
     /// Number of (frame, camera) pairs of the selected frames without a colour image.
     std::size_t missingImages() const;
+    /// Number of selected frames without a colour image of camera `cam` (out_of_range past
+    /// cameras().size()).
+    std::size_t missingImages(std::size_t cam) const;
     /// Number of (frame, camera) pairs without a semantic image, over cameras that have a
     /// semantic folder.
     std::size_t missingSemantics() const;

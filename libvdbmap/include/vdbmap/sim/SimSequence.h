@@ -7,6 +7,7 @@
 #include <string>
 
 #include "vdbmap/io/Camera.h"
+#include "vdbmap/sim/SimRig.h"
 
 namespace vdbmap {
 
@@ -17,7 +18,11 @@ struct SimOptions {
     std::uint64_t seed = 1;
     std::string lidar;     ///< preset name; "" = scene default (street hdl64, suv vls128)
     double size_m = 60.0;  ///< street length
-    int cameras = 1;       ///< 1 (image_2) or 2 (image_2 + image_3)
+    int cameras = 1;       ///< kitti rig: 1 (image_2) or 2 (image_2 + image_3)
+    /// "kitti": KITTI layout (forward camera(s) image_2 / image_3); "surround": generic layout
+    /// with the four cameras of surroundRig(rig_options) and a ready-to-use dataset.yaml.
+    std::string rig = "kitti";
+    SurroundRigOptions rig_options;  ///< image size, field of view, mounting of "surround"
     bool occluders = false;   ///< moving "pedestrian" boxes in some frames, images only
     int label_noise_px = 0;   ///< boundary jitter of semantic_2/3, pixels
     bool images = true;       ///< render image_k / semantic_k
@@ -42,10 +47,15 @@ struct SimSummary {
 /// KITTI camera intrinsics used for image_2/image_3 (1242x375, fx = fy = 721.5377).
 CameraIntrinsics kittiLikeIntrinsics();
 
-/// Simulates a sequence and writes it into `out_dir` in the KITTI layout of DATA.md, plus
-/// vignetting.txt, exposure.txt and gt/ (mesh.ply with face labels, textured/mesh.obj,
-/// observed_points.ply, views/). Deterministic for a seed. Throws ConfigError for bad options
-/// and IoError for write failures.
+/// Simulates a sequence and writes it into `out_dir`, plus vignetting.txt, exposure.txt and
+/// gt/ (mesh.ply with face labels, textured/mesh.obj, observed_points.ply, views/).
+/// rig "kitti": the KITTI layout of DATA.md (velodyne/, calib.txt, poses.txt, times.txt,
+/// image_k/, semantic_k/). rig "surround": the generic layout (scans/*.bin, poses.txt with
+/// the LiDAR poses T_W_L as KITTI 3x4 lines, times.txt, image_<name>/, semantic_<name>/,
+/// calib_<name>.txt with K:, D:, T: lines, and dataset.yaml: the `dataset:` section that
+/// reads it, paths relative to the sequence). Both put the world W at KITTI camera 0 of frame
+/// 0, so the scans and gt/ of a seed are the same for both rigs. Deterministic for a seed.
+/// Throws ConfigError for bad options and IoError for write failures.
 SimSummary writeSimSequence(const SimOptions& options, const std::filesystem::path& out_dir);
 
 }  // namespace vdbmap
