@@ -11,6 +11,7 @@
 #include "vdbmap/map/Layers.h"
 #include "vdbmap/pipeline/Pipeline.h"
 #include "vdbmap/pipeline/Report.h"
+#include "support/SimRigFixture.h"
 #include "vdbmap/sim/SimSequence.h"
 
 namespace fs = std::filesystem;
@@ -72,22 +73,9 @@ TEST_CASE("semantic.mrf labels a simulated street end to end", "[semantic][pipel
 
 namespace {
 
-/// A small surround-rig street (4 frames, 320 x 180 images) and a pipeline YAML that reads it
-/// through the dataset section the simulator wrote (`path` pointed at the sequence).
+/// The pipeline YAML of a small surround-rig street (support/SimRigFixture.h) + `stages`.
 std::string rigPipeline(const fs::path& root, const std::string& stages) {
-    vdbmap::SimOptions sim;
-    sim.frames = 4;
-    sim.size_m = 20.0;
-    sim.gt_views = 0;
-    sim.quiet = true;
-    sim.rig = "surround";
-    sim.rig_options.width_px = 320;
-    sim.rig_options.height_px = 180;
-    if (!fs::exists(root / "seq" / "dataset.yaml")) vdbmap::writeSimSequence(sim, root / "seq");
-    std::ifstream in(root / "seq" / "dataset.yaml");
-    std::string yaml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    yaml.replace(yaml.find("path: ."), 7, "path: seq");
-    return yaml + stages;
+    return vdbmap::test::rigDatasetYaml(root) + stages;
 }
 
 }  // namespace

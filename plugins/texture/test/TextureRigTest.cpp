@@ -8,7 +8,7 @@
 #include "vdbmap/core/Log.h"
 #include "vdbmap/pipeline/Pipeline.h"
 #include "vdbmap/pipeline/Report.h"
-#include "vdbmap/sim/SimSequence.h"
+#include "support/SimRigFixture.h"
 
 namespace fs = std::filesystem;
 
@@ -16,18 +16,7 @@ TEST_CASE("texture.mrf textures from every camera of a surround rig", "[texture]
     vdbmap::setLogLevel(vdbmap::LogLevel::Warn);
     const fs::path root = fs::path(VDBMAP_BINARY_DIR) / "test_scratch" / "texture_rig";
     fs::remove_all(root);
-    vdbmap::SimOptions sim;
-    sim.frames = 4;
-    sim.size_m = 20.0;
-    sim.gt_views = 0;
-    sim.quiet = true;
-    sim.rig = "surround";
-    sim.rig_options.width_px = 320;
-    sim.rig_options.height_px = 180;
-    vdbmap::writeSimSequence(sim, root / "seq");
-    std::ifstream in(root / "seq" / "dataset.yaml");
-    std::string yaml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    yaml.replace(yaml.find("path: ."), 7, "path: seq");
+    std::string yaml = vdbmap::test::rigDatasetYaml(root);
     const std::string plugin =
         (fs::path(VDBMAP_PLUGIN_BUILD_DIR) / "vdbmap_plugin_texture.so").string();
     yaml += "plugins: [\"" + plugin +
