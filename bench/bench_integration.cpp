@@ -154,9 +154,18 @@ int main(int argc, char** argv) {
         // Active voxels per leaf: how full the allocated 8^3 leaves are.
         std::vector<int> fill;
         double leaf_bytes = 0.0;
+        // 4^3 octants of the 8^3 leaves that hold an active voxel: what leaves of 4^3 would
+        // allocate (for the memory analysis in docs/benchmarks/integration.md).
+        double octants = 0.0;
         for (auto leaf = map.tsdf()->tree().cbeginLeaf(); leaf; ++leaf) {
             fill.push_back(static_cast<int>(leaf->onVoxelCount()));
             leaf_bytes += static_cast<double>(leaf->memUsage());
+            bool used[8] = {};
+            for (auto v = leaf->cbeginValueOn(); v; ++v) {
+                const openvdb::Coord c = v.getCoord() - leaf->origin();
+                used[(c.x() >> 2) * 4 + (c.y() >> 2) * 2 + (c.z() >> 2)] = true;
+            }
+            for (bool u : used) octants += u ? 1.0 : 0.0;
         }
         std::sort(fill.begin(), fill.end());
         auto fillAt = [&](double q) {
@@ -195,6 +204,8 @@ int main(int argc, char** argv) {
         j["bytes_per_leaf_grids"] = grid_bytes / leaves;
         j["bytes_per_leaf_node"] = leaf_bytes / leaves;  // the leaf itself, without internal nodes
         j["mean_leaf_fill"] = active / leaves;
+        j["active_octants_4"] = octants;
+        j["mean_octant_fill_4"] = active / octants;
         j["bytes_per_leaf_stats"] = map.blockStats().bytesPerBlock();
         j["blocks_with_stats"] = map.blockStats().size();
         j["peak_rss_mb"] = static_cast<double>(peakMemoryBytes()) / (1024.0 * 1024.0);
