@@ -111,6 +111,12 @@ nlohmann::json semanticJson(const vdbmap::SemanticMetrics& s) {
     return j;
 }
 
+// "  overall accuracy .. mean class accuracy .. mIoU .. unlabelled .." (no newline).
+void printScores(std::ostringstream& table, const vdbmap::SemanticMetrics& m) {
+    table << "  overall accuracy " << m.overall_accuracy << "  mean class accuracy "
+          << m.mean_class_accuracy << "  mIoU " << m.miou << "  unlabelled " << m.unlabelled_fraction;
+}
+
 // The input cameras that define the camera-seen area: the dataset section of --dataset (a
 // pipeline or dataset YAML, read as `vdbmap run` reads it, with --set dataset.<key>=value),
 // else SEQ/dataset.yaml (written by `vdbmap-sim --rig surround`), else SEQ as a KITTI layout
@@ -325,11 +331,9 @@ void runEval(const EvalArgs& args, int& exit_code) {
         const std::size_t unknown_next_to_known =
             vdbmap::unlabelledNextToLabelled(labels, vdbmap::faceAdjacency(sem_mesh));
         j["unlabelled_faces_next_to_labelled"] = unknown_next_to_known;
-        table << std::setprecision(4) << "semantics (all area)\n"
-              << "  overall accuracy " << s.overall_accuracy << "  mean class accuracy "
-              << s.mean_class_accuracy << "  mIoU " << s.miou << "  unlabelled "
-              << s.unlabelled_fraction
-              << " (unlabelled faces next to a labelled one: " << unknown_next_to_known << ")\n";
+        table << std::setprecision(4) << "semantics (all area)\n";
+        printScores(table, s);
+        table << " (unlabelled faces next to a labelled one: " << unknown_next_to_known << ")\n";
         std::vector<std::uint8_t> near_boundary;
         if (args.boundary_band_m > 0) {
             near_boundary = vdbmap::nearGtClassBoundary(sv, st, transfer, gt_rc, gt_tri_labels,
@@ -356,10 +360,9 @@ void runEval(const EvalArgs& args, int& exit_code) {
             j["camera_seen"] = jo;
             table << "semantics (camera-seen area, " << 100.0 * jo["seen_fraction"].get<double>()
                   << " % of the matched area; " << camera_dataset->cameras().size()
-                  << " camera(s) of " << dataset_source << ")\n"
-                  << "  overall accuracy " << o.overall_accuracy << "  mean class accuracy "
-                  << o.mean_class_accuracy << "  mIoU " << o.miou << "  unlabelled "
-                  << o.unlabelled_fraction << "\n";
+                  << " camera(s) of " << dataset_source << ")\n";
+            printScores(table, o);
+            table << "\n";
             if (!near_boundary.empty()) {
                 j["camera_seen"]["boundary"] = boundarySplit(transfer, tri_labels, near_boundary,
                                                              &seen, args.boundary_band_m, table);

@@ -20,6 +20,7 @@
 #include "vdbmap/Error.h"
 #include "vdbmap/Version.h"
 #include "vdbmap/map/BlockStats.h"
+#include "vdbmap/map/MeasurementWeight.h"
 #include "vdbmap/map/VoxelMap.h"
 
 namespace vdbmap {
@@ -171,7 +172,8 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
     const float inv_vs_f = static_cast<float>(inv_vs);
     // Range checks on squared float ranges (no square root per point).
     const float min_range2 = static_cast<float>(config_.min_range_m * config_.min_range_m);
-    const float max_range2 = static_cast<float>(std::min(config_.max_range_m, 1e18) * std::min(config_.max_range_m, 1e18));
+    const double max_range_m = std::min(config_.max_range_m, 1e18);  // its square fits a float
+    const float max_range2 = static_cast<float>(max_range_m * max_range_m);
     auto t0 = Clock::now();
 
     // ---- Phase 1: bin the valid points by 8^3 block, in scan order within each block.
@@ -218,10 +220,7 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
                     in_run = false;
                     continue;
                 }
-                // The voxel of p (cell [i - 0.5, i + 0.5) voxels), then its 8^3 block.
-                const Coord block(detail::floorToInt(p.x() * inv_vs_f + 0.5f) >> 3,
-                                  detail::floorToInt(p.y() * inv_vs_f + 0.5f) >> 3,
-                                  detail::floorToInt(p.z() * inv_vs_f + 0.5f) >> 3);
+                const Coord block = BlockStatsGrid::blockOf(detail::voxelOf(p, inv_vs_f));
                 if (block != prev_block) {
                     prev_block = block;
                     prev_slot = index.getValue(block);
@@ -464,9 +463,11 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
     const float max_weight = static_cast<float>(config_.max_weight);
     const float floor_w = static_cast<float>(config_.weight_floor);
     const float vs_f = static_cast<float>(vs);
-    auto integrateCell = [&](std::size_t cell_index, detail::TsdfLeafCache::Accessor& acc) -> std::size_t {
-        // The voxel updates go straight into the packed leaves of the block's neighbourhood.
-        detail::BlockLeafTable table(hood, codec, max_weight);
+    // The voxel updates of one cell go straight into the packed leaves of each block's
+    // neighbourhood (`table`, one per task). Returns the number of updates.
+    auto integrateCell = [&](std::size_t cell_index, detail::BlockLeafTable& table,
+                             detail::TsdfLeafCache::Accessor& acc) -> std::size_t {
+        const std::size_t updates_before = table.updates();
         for (std::uint32_t i = cell_begin[cell_index]; i < cell_begin[cell_index + 1]; ++i) {
             const std::uint32_t b = by_cell[i];
             const LocalBlock& lb = local[b];
@@ -480,13 +481,11 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
                 const Vec3f& p = points_W[order[k]];
                 const Vec3f& dir = s.dir[k];
                 const Vec3f normal = has_normal ? block_normal : Vec3f(-dir);
-                // incidenceWeight(normal, origin_W, p, floor_w), from the unit ray direction.
-                const float cos_incidence = -normal.dot(dir);
-                const float w_inc = has_normal ? std::clamp(cos_incidence, floor_w, 1.0f) : 1.0f;
+                const float w_inc = has_normal ? incidenceWeightAlongRay(normal, dir, floor_w) : 1.0f;
                 detail::integrateRay(s.segment[k], p, dir, normal, w_inc, eps, vs_f, inv_dropoff, table);
             }
         }
-        return table.updates();
+        return table.updates() - updates_before;
     };
     const std::size_t num_cells = cell_begin.size() - 1;
     s.updates_per_cell.assign(num_cells, 0);
@@ -500,8 +499,9 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
         tbb::parallel_for(tbb::blocked_range<std::size_t>(colour_start, colour_end, 1),
                           [&](const tbb::blocked_range<std::size_t>& r) {
                               detail::TsdfLeafCache::Accessor acc(tsdf_tree);
+                              detail::BlockLeafTable table(hood, codec, max_weight);
                               for (std::size_t c = r.begin(); c < r.end(); ++c)
-                                  s.updates_per_cell[c] = integrateCell(c, acc);
+                                  s.updates_per_cell[c] = integrateCell(c, table, acc);
                           });
         colour_start = colour_end;
     }

@@ -10,13 +10,6 @@
 
 namespace vdbmap::detail {
 
-/// Voxel index of a world point: voxel (i,j,k) covers [i-0.5, i+0.5) * voxel size.
-inline openvdb::Coord voxelOf(const Vec3d& p_W, double inv_voxel_size) {
-    return openvdb::Coord(static_cast<int>(std::floor(p_W.x() * inv_voxel_size + 0.5)),
-                          static_cast<int>(std::floor(p_W.y() * inv_voxel_size + 0.5)),
-                          static_cast<int>(std::floor(p_W.z() * inv_voxel_size + 0.5)));
-}
-
 /// Amanatides-Woo traversal of the voxels pierced by the segment start_W + t * dir_W,
 /// t in [0, length_m] (dir_W unit length). Calls visit(const openvdb::Coord&) in order along
 /// the ray. Deterministic; no allocation.

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "vdbmap/core/Types.h"
+#include "vdbmap/map/MeasurementWeight.h"
 
 namespace vdbmap::detail {
 
@@ -14,6 +15,12 @@ namespace vdbmap::detail {
 inline int floorToInt(float x) {
     const int i = static_cast<int>(x);
     return i - (x < static_cast<float>(i) ? 1 : 0);
+}
+
+/// Voxel index of a world point: voxel (i,j,k) covers [i-0.5, i+0.5) * voxel size.
+inline openvdb::Coord voxelOf(const Vec3f& p_W, float inv_voxel) {
+    return openvdb::Coord(floorToInt(p_W.x() * inv_voxel + 0.5f), floorToInt(p_W.y() * inv_voxel + 0.5f),
+                          floorToInt(p_W.z() * inv_voxel + 0.5f));
 }
 
 /// The update segment of one measurement point p along its unit ray direction: t in
@@ -43,9 +50,8 @@ struct RaySegment {
 /// segment (Amanatides-Woo order along the ray) gets
 ///   sdf = n . (c_v - p), clamped to [-eps, eps]    (c_v: voxel centre, n: block normal)
 ///   w   = w_inc * f(sdf),  f = 1 for sdf >= -voxel, then linear to 0 at -eps
-/// (the expressions of behindSurfaceFactor in vdbmap/map/MeasurementWeight.h, which the tests
-/// use as the reference). `inv_dropoff` = 1 / (eps - voxel), or 0 when eps <= voxel (no
-/// drop-off). The sink is told the 8^3 leaf the walk is in, `enterLeaf(origin)` (false: no
+/// (behindSurfaceFactor, vdbmap/map/MeasurementWeight.h). `inv_dropoff` = 1 / (eps - voxel),
+/// or 0 when eps <= voxel (no drop-off). The sink is told the 8^3 leaf the walk is in, `enterLeaf(origin)` (false: no
 /// such leaf, its voxels are skipped), and gets `update(ijk, offset_in_leaf, sdf_m, w)` for
 /// every voxel with w > 0. The sdf, the offset in the leaf and the leaf crossings are carried
 /// incrementally along the walk: float arithmetic, no division in the voxel loop.
@@ -95,12 +101,7 @@ inline void integrateRay(const RaySegment& seg, const Vec3f& p_W, const Vec3f& d
     const int max_steps = static_cast<int>(seg.length_idx * 1.7320508f + 4.0f);
     for (int s = 0; s < max_steps; ++s) {
         const float d = sdf > eps_m ? eps_m : (sdf < -eps_m ? -eps_m : sdf);
-        float f = 1.0f;
-        if (d < -voxel_m && inv_dropoff > 0.0f) {
-            f = (eps_m + d) * inv_dropoff;
-            f = f < 0.0f ? 0.0f : (f > 1.0f ? 1.0f : f);
-        }
-        const float w = w_inc * f;
+        const float w = w_inc * behindSurfaceFactor(d, eps_m, voxel_m, inv_dropoff);
         if (in_leaf && w > 0.0f) sink.update(ijk, offset, d, w);
         const int axis = t_max[0] < t_max[1] ? (t_max[0] < t_max[2] ? 0 : 2)
                                              : (t_max[1] < t_max[2] ? 1 : 2);

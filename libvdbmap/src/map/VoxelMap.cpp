@@ -37,14 +37,14 @@ TsdfCodec checkedCodec(double voxel_size_m, float sdf_range_m, float weight_rang
     return TsdfCodec(sdf_range_m, weight_range);
 }
 
-/// A float grid with the topology of `tsdf` whose active voxels get value(leaf, offset).
-template <typename Value>
-openvdb::FloatGrid::Ptr decodedGrid(const TsdfGrid& tsdf, float background, Value&& value) {
+/// A float grid with the topology of `tsdf` and its transform; fill(packed leaf, float leaf)
+/// sets the values of the float leaf's active voxels (in parallel over leaves).
+template <typename Fill>
+openvdb::FloatGrid::Ptr decodedGrid(const TsdfGrid& tsdf, float background, Fill&& fill) {
     auto tree = std::make_shared<openvdb::FloatTree>(tsdf.tree(), background, openvdb::TopologyCopy());
     openvdb::tree::LeafManager<openvdb::FloatTree> leaves(*tree);
     leaves.foreach([&](openvdb::FloatTree::LeafNodeType& leaf, std::size_t) {
-        const TsdfLeaf* packed = tsdf.tree().probeConstLeaf(leaf.origin());
-        for (auto it = leaf.beginValueOn(); it; ++it) it.setValue(value(packed, it.pos()));
+        fill(*tsdf.tree().probeConstLeaf(leaf.origin()), leaf);
     });
     auto grid = openvdb::FloatGrid::create(tree);
     grid->setTransform(tsdf.transform().copy());
@@ -85,8 +85,8 @@ openvdb::Index64 VoxelMap::leafCount() const { return tsdf_->tree().leafCount();
 std::size_t VoxelMap::tsdfMemoryBytes() const { return static_cast<std::size_t>(tsdf_->memUsage()); }
 
 openvdb::FloatGrid::Ptr VoxelMap::surfaceGrid() const {
-    auto grid = decodedGrid(*tsdf_, codec_.sdfRange(), [&](const TsdfLeaf* leaf, openvdb::Index i) {
-        return codec_.sdf(leaf->getValue(i));
+    auto grid = decodedGrid(*tsdf_, codec_.sdfRange(), [&](const TsdfLeaf& packed, auto& leaf) {
+        for (auto it = leaf.beginValueOn(); it; ++it) it.setValue(codec_.sdf(packed.getValue(it.pos())));
     });
     grid->setName("surface");
     grid->setGridClass(openvdb::GRID_LEVEL_SET);
@@ -94,23 +94,19 @@ openvdb::FloatGrid::Ptr VoxelMap::surfaceGrid() const {
 }
 
 openvdb::FloatGrid::Ptr VoxelMap::weightGrid() const {
-    auto grid = decodedGrid(*tsdf_, 0.0f, [&](const TsdfLeaf* leaf, openvdb::Index i) {
-        return codec_.weight(leaf->getValue(i));
+    auto grid = decodedGrid(*tsdf_, 0.0f, [&](const TsdfLeaf& packed, auto& leaf) {
+        for (auto it = leaf.beginValueOn(); it; ++it) it.setValue(codec_.weight(packed.getValue(it.pos())));
     });
     grid->setName("weight");
     return grid;
 }
 
 openvdb::FloatGrid::Ptr VoxelMap::truncationGrid(float no_block_m) const {
-    auto tree = std::make_shared<openvdb::FloatTree>(tsdf_->tree(), no_block_m, openvdb::TopologyCopy());
-    openvdb::tree::LeafManager<openvdb::FloatTree> leaves(*tree);
-    leaves.foreach([&](openvdb::FloatTree::LeafNodeType& leaf, std::size_t) {
+    auto grid = decodedGrid(*tsdf_, no_block_m, [&](const TsdfLeaf&, auto& leaf) {
         const std::int32_t slot = block_stats_->find(BlockStatsGrid::blockOf(leaf.origin()));
         const float eps = slot >= 0 ? block_stats_->entry(slot).truncation_m : no_block_m;
         for (auto it = leaf.beginValueOn(); it; ++it) it.setValue(eps);
     });
-    auto grid = openvdb::FloatGrid::create(tree);
-    grid->setTransform(transform_->copy());
     grid->setName("truncation");
     grid->setGridClass(openvdb::GRID_FOG_VOLUME);
     return grid;

@@ -21,8 +21,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::vector<std::string> kTopLevelKeys{"dataset", "plugins", "stages", "output"};
-
 /// One `--set path=value`, split into its target section and key.
 struct Override {
     enum class Target { Dataset, Output, StageIndex, StageName } target;
@@ -113,17 +111,6 @@ void resolveStageNames(std::vector<Override>& overrides, const std::vector<std::
     }
 }
 
-YAML::Node parseYaml(const std::string& text, const std::string& source) {
-    try {
-        return YAML::Load(text);
-    } catch (const YAML::ParserException& e) {
-        throw ConfigError(source + ":" + std::to_string(e.mark.line + 1) + ":" +
-                          std::to_string(e.mark.column + 1) + ": YAML syntax error: " + e.msg);
-    } catch (const YAML::Exception& e) {
-        throw ConfigError(source + ": YAML error: " + e.what());
-    }
-}
-
 nlohmann::json optionToJson(const OptionValue& value) {
     return std::visit([](const auto& v) { return nlohmann::json(v); }, value);
 }
@@ -157,16 +144,10 @@ Pipeline::~Pipeline() = default;
 
 std::unique_ptr<Pipeline> Pipeline::fromFile(const fs::path& yaml_file,
                                              const std::vector<std::string>& overrides) {
+    const std::string text = detail::readConfigFile(yaml_file);
     std::error_code ec;
-    if (!fs::is_regular_file(yaml_file, ec)) {
-        throw ConfigError(yaml_file.string() + ": config file not found");
-    }
-    std::ifstream in(yaml_file, std::ios::binary);
-    if (!in) throw ConfigError(yaml_file.string() + ": cannot open config file");
-    std::ostringstream text;
-    text << in.rdbuf();
     const fs::path base = fs::absolute(yaml_file, ec).parent_path();
-    return fromString(text.str(), yaml_file.string(), base, overrides);
+    return fromString(text, yaml_file.string(), base, overrides);
 }
 
 std::unique_ptr<Pipeline> Pipeline::fromString(const std::string& yaml_text,
@@ -184,18 +165,7 @@ std::unique_ptr<Pipeline> Pipeline::fromString(const std::string& yaml_text,
     std::vector<Override> overrides;
     for (const auto& text : override_texts) overrides.push_back(parseOverride(text));
 
-    const YAML::Node root = parseYaml(yaml_text, src);
-    if (!root.IsMap()) {
-        throw ConfigError(detail::yamlLocation(src, root) +
-                          ": expected a map with keys dataset, plugins, stages, output");
-    }
-    for (const auto& item : root) {
-        const std::string key = item.first.Scalar();
-        if (std::find(kTopLevelKeys.begin(), kTopLevelKeys.end(), key) == kTopLevelKeys.end()) {
-            throw ConfigError(detail::yamlLocation(src, item.first) + ": unknown top-level key '" +
-                              key + "'; valid keys: dataset, plugins, stages, output");
-        }
-    }
+    const YAML::Node root = detail::parsePipelineRoot(yaml_text, src);
 
     // Plugins first: their stages must be registered before the stages are created.
     const YAML::Node plugins = root["plugins"];

@@ -1,14 +1,55 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "pipeline/YamlOptions.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdlib>
 #include <limits>
+#include <fstream>
 #include <set>
+#include <sstream>
 
 #include "vdbmap/Error.h"
 
 namespace vdbmap::detail {
+
+std::string readConfigFile(const std::filesystem::path& file) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(file, ec)) {
+        throw ConfigError(file.string() + ": config file not found");
+    }
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw ConfigError(file.string() + ": cannot open config file");
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+YAML::Node parsePipelineRoot(const std::string& text, const std::string& source) {
+    static const std::vector<std::string> kTopLevelKeys{"dataset", "plugins", "stages", "output"};
+    YAML::Node root;
+    try {
+        root = YAML::Load(text);
+    } catch (const YAML::ParserException& e) {
+        throw ConfigError(source + ":" + std::to_string(e.mark.line + 1) + ":" +
+                          std::to_string(e.mark.column + 1) + ": YAML syntax error: " + e.msg);
+    } catch (const YAML::Exception& e) {
+        throw ConfigError(source + ": YAML error: " + e.what());
+    }
+    if (!root.IsMap()) {
+        throw ConfigError(yamlLocation(source, root) +
+                          ": expected a map with keys dataset, plugins, stages, output");
+    }
+    for (const auto& item : root) {
+        const std::string key = item.first.Scalar();
+        if (std::find(kTopLevelKeys.begin(), kTopLevelKeys.end(), key) == kTopLevelKeys.end()) {
+            throw ConfigError(yamlLocation(source, item.first) + ": unknown top-level key '" + key +
+                              "'; valid keys: dataset, plugins, stages, output");
+        }
+    }
+    return root;
+}
+
 namespace {
 
 bool isQuoted(const YAML::Node& node) { return node.Tag() == "!"; }

@@ -3,6 +3,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,15 @@ struct YamlEntry {
     YAML::Node value;
     std::string where;
 };
+
+/// The text of a pipeline file. Throws ConfigError "<file>: config file not found" or
+/// "<file>: cannot open config file".
+std::string readConfigFile(const std::filesystem::path& file);
+
+/// Parses the text of a pipeline file (`source` names it in messages): a map whose keys are
+/// among dataset, plugins, stages, output. Throws ConfigError with file:line:col on a YAML
+/// syntax error, a root that is not a map or an unknown top-level key.
+YAML::Node parsePipelineRoot(const std::string& text, const std::string& source);
 
 /// "file:line:col" of a node (1-based), or just "file" when the node has no position.
 std::string yamlLocation(const std::string& source, const YAML::Node& node);
