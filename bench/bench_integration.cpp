@@ -107,6 +107,8 @@ int main(int argc, char** argv) {
     app.add_option("--mode", mode, "adaptive | fixed");
     app.add_option("--cache", cache, "binary file caching the generated scans");
     app.add_flag("--space-carving", carving, "enable space carving");
+    int working_set = AtsdfConfig{}.working_set_scans;
+    app.add_option("--working-set", working_set, "scans a leaf stays dense (working_set_scans)");
     app.add_flag("--baseline", baseline,
                  "also run the projective VDBFusion-style baseline (1 thread, fixed eps_max) on the "
                  "same scans, after our integrator, and report both");
@@ -124,10 +126,14 @@ int main(int argc, char** argv) {
         // As the stage does: n_ref from the default surface density, scaled with the block size.
         cfg.truncation.reference_points = referencePointsForDensity(156.25, voxel);
         cfg.space_carving = carving;
+        cfg.working_set_scans = working_set;
         AtsdfIntegrator integrator(map, cfg);
         std::vector<double> ms;
         std::size_t points = 0;
         const double cpu0 = processCpuSeconds();
+        // The TSDF's memory after every scan (working tree + compact store), its time left out.
+        double probe_s = 0.0, probe_cpu_s = 0.0;
+        double peak_bytes = 0.0, peak_working_bytes = 0.0, last_bytes_per_voxel = 0.0;
         Timer total;
         for (int i = 0; i < num_scans; ++i) {
             const auto& pts = scans[static_cast<std::size_t>(i)];
@@ -136,9 +142,17 @@ int main(int argc, char** argv) {
                 pts, poseAt(Vec3d(1.0 * i, 0.3 * std::sin(0.1 * i), 1.73)));
             ms.push_back(1e3 * t.elapsedSeconds());
             points += s.points_integrated;
+            Timer tp;
+            const double c0 = processCpuSeconds();
+            const double bytes = static_cast<double>(map.tsdfMemoryBytes());
+            peak_bytes = std::max(peak_bytes, bytes);
+            peak_working_bytes = std::max(peak_working_bytes, static_cast<double>(map.workingTsdf()->memUsage()));
+            last_bytes_per_voxel = bytes / static_cast<double>(map.activeVoxelCount());
+            probe_cpu_s += processCpuSeconds() - c0;
+            probe_s += tp.elapsedSeconds();
         }
-        const double seconds = total.elapsedSeconds();
-        const double cpu_seconds = processCpuSeconds() - cpu0;
+        const double seconds = total.elapsedSeconds() - probe_s;
+        const double cpu_seconds = processCpuSeconds() - cpu0 - probe_cpu_s;
         const double leaves_before_finalize = static_cast<double>(map.leafCount());
         Timer tf;
         integrator.finalize();
@@ -153,19 +167,10 @@ int main(int argc, char** argv) {
         const double grid_bytes = static_cast<double>(map.tsdfMemoryBytes());
         // Active voxels per leaf: how full the allocated 8^3 leaves are.
         std::vector<int> fill;
-        double leaf_bytes = 0.0;
-        // 4^3 octants of the 8^3 leaves that hold an active voxel: what leaves of 4^3 would
-        // allocate (for the memory analysis in docs/benchmarks/integration.md).
-        double octants = 0.0;
-        for (auto leaf = map.tsdf()->tree().cbeginLeaf(); leaf; ++leaf) {
-            fill.push_back(static_cast<int>(leaf->onVoxelCount()));
-            leaf_bytes += static_cast<double>(leaf->memUsage());
-            bool used[8] = {};
-            for (auto v = leaf->cbeginValueOn(); v; ++v) {
-                const openvdb::Coord c = v.getCoord() - leaf->origin();
-                used[(c.x() >> 2) * 4 + (c.y() >> 2) * 2 + (c.z() >> 2)] = true;
-            }
-            for (bool u : used) octants += u ? 1.0 : 0.0;
+        for (const TsdfLeafView& leaf : map.leafViews()) {
+            int n = 0;
+            leaf.forEachObserved([&](openvdb::Index) { ++n; });
+            fill.push_back(n);
         }
         std::sort(fill.begin(), fill.end());
         auto fillAt = [&](double q) {
@@ -185,6 +190,10 @@ int main(int argc, char** argv) {
         j["phase_stats_s"] = integrator.totals().stats_s;
         j["phase_alloc_s"] = integrator.totals().alloc_s;
         j["phase_update_s"] = integrator.totals().update_s;
+        j["phase_retire_s"] = integrator.totals().retire_s;
+        j["working_set_scans"] = working_set;
+        j["leaves_reloaded"] = integrator.totals().leaves_reloaded;
+        j["leaves_retired"] = integrator.totals().leaves_retired;
         j["seconds"] = seconds;
         j["mpts_per_s"] = 1e-6 * static_cast<double>(points) / seconds;
         // CPU time of all threads: on a shared machine less noisy than the wall time.
@@ -202,10 +211,14 @@ int main(int argc, char** argv) {
         j["leaf_fill_p10_p50_p90"] = {fillAt(0.1), fillAt(0.5), fillAt(0.9)};
         j["bytes_per_active_voxel"] = grid_bytes / active;
         j["bytes_per_leaf_grids"] = grid_bytes / leaves;
-        j["bytes_per_leaf_node"] = leaf_bytes / leaves;  // the leaf itself, without internal nodes
         j["mean_leaf_fill"] = active / leaves;
-        j["active_octants_4"] = octants;
-        j["mean_octant_fill_4"] = active / octants;
+        // During integration (after each scan): both stores, and the working tree alone.
+        j["peak_tsdf_mb"] = peak_bytes / (1024.0 * 1024.0);
+        j["peak_working_mb"] = peak_working_bytes / (1024.0 * 1024.0);
+        // After the last scan, before finalize: the working set of the last scans still dense.
+        j["bytes_per_active_voxel_before_finalize"] = last_bytes_per_voxel;
+        // A dense 8^3 leaf of packed values (what every leaf would cost without the compact store).
+        j["bytes_per_dense_leaf"] = static_cast<double>(TsdfLeaf(openvdb::Coord(0), 0u).memUsage());
         j["bytes_per_leaf_stats"] = map.blockStats().bytesPerBlock();
         j["blocks_with_stats"] = map.blockStats().size();
         j["peak_rss_mb"] = static_cast<double>(peakMemoryBytes()) / (1024.0 * 1024.0);

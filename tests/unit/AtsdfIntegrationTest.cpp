@@ -77,17 +77,16 @@ TEST_CASE("Plane at a non-voxel-aligned offset: SDF and mesh match the closed fo
     double max_err = 0.0;
     const TsdfCodec& codec = map.codec();
     const BlockStatsGrid& blocks = map.blockStats();
-    for (auto it = map.tsdf()->cbeginValueOn(); it; ++it) {
-        const openvdb::Coord c = it.getCoord();
+    map.forEachVoxel([&](const openvdb::Coord& c, std::uint32_t packed) {
         const Vec3d x(c.x() * vs, c.y() * vs, c.z() * vs);
         const double truth = x.z() - z0;
-        if (std::hypot(x.x(), x.y()) > 10.0 || std::abs(truth) > 0.1 || codec.weight(*it) < 1.0f)
-            continue;
+        if (std::hypot(x.x(), x.y()) > 10.0 || std::abs(truth) > 0.1 || codec.weight(packed) < 1.0f)
+            return;
         const auto slot = blocks.find(BlockStatsGrid::blockOf(c));
-        if (slot < 0 || !blocks.entry(slot).plane_valid) continue;
-        max_err = std::max(max_err, std::abs(codec.sdf(*it) - truth));
+        if (slot < 0 || !blocks.entry(slot).plane_valid) return;
+        max_err = std::max(max_err, std::abs(codec.sdf(packed) - truth));
         ++checked;
-    }
+    });
     INFO("checked " << checked << " voxels, max error " << max_err);
     REQUIRE(checked > 1000);
     CHECK(max_err <= 0.1 * vs + 3.0 * sigma);

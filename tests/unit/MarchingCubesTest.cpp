@@ -99,8 +99,12 @@ TEST_CASE("No faces between observed and unobserved space", "[mesh][mc]") {
 
     SECTION("min_weight excludes weakly observed voxels") {
         const TsdfCodec& codec = map.codec();
-        for (auto it = map.tsdf()->beginValueOn(); it; ++it)
-            if (it.getCoord().x() * vs < -0.5) it.setValue(codec.encode(codec.sdf(*it), 0.05f));
+        std::vector<std::pair<openvdb::Coord, float>> weak;
+        map.forEachVoxel([&](const openvdb::Coord& c, std::uint32_t packed) {
+            if (c.x() * vs < -0.5) weak.emplace_back(c, codec.sdf(packed));
+        });
+        REQUIRE(!weak.empty());
+        for (const auto& [c, sdf] : weak) map.setVoxel(c, sdf, 0.05f);
         MarchingCubesConfig cfg;
         cfg.min_weight = 0.1;
         const auto cut = extractMesh(map, cfg);

@@ -62,11 +62,11 @@ TEST_CASE("map.vdb round trip: grids, classes, values and metadata", "[tsdf][vdb
     std::size_t checked = 0;
     auto sacc = surface->getConstAccessor();
     auto wacc = weight->getConstAccessor();
-    for (auto it = map.tsdf()->cbeginValueOn(); it; ++it, ++checked) {
-        CHECK(sacc.getValue(it.getCoord()) == map.codec().sdf(*it));
-        CHECK(wacc.getValue(it.getCoord()) == map.codec().weight(*it));
-        if (checked > 1000) break;
-    }
+    map.forEachVoxel([&](const openvdb::Coord& c, std::uint32_t packed) {
+        if (++checked > 1000) return;
+        CHECK(sacc.getValue(c) == map.codec().sdf(packed));
+        CHECK(wacc.getValue(c) == map.codec().weight(packed));
+    });
     float lo = 1e9f, hi = -1e9f;
     for (auto it = trunc->cbeginValueOn(); it; ++it) {
         lo = std::min(lo, *it);

@@ -2,7 +2,6 @@
 #include "vdbmap/map/AtsdfIntegrator.h"
 
 #include <openvdb/openvdb.h>
-#include <openvdb/tools/Prune.h>
 #include <openvdb/tree/ValueAccessor.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -20,6 +19,7 @@
 #include "vdbmap/Error.h"
 #include "vdbmap/Version.h"
 #include "vdbmap/map/BlockStats.h"
+#include "vdbmap/map/CompactTsdf.h"
 #include "vdbmap/map/MeasurementWeight.h"
 #include "vdbmap/map/VoxelMap.h"
 
@@ -84,6 +84,7 @@ struct AtsdfIntegrator::Scratch {
     std::vector<std::uint32_t> by_cell;
     std::vector<std::uint32_t> cell_begin;
     std::vector<std::size_t> updates_per_cell;
+    std::vector<TsdfLeaf*> created;           ///< leaves phase 3a added to the working tree
 };
 
 IntegrationStats& IntegrationStats::operator+=(const IntegrationStats& o) {
@@ -99,6 +100,9 @@ IntegrationStats& IntegrationStats::operator+=(const IntegrationStats& o) {
     stats_s += o.stats_s;
     alloc_s += o.alloc_s;
     update_s += o.update_s;
+    retire_s += o.retire_s;
+    leaves_reloaded += o.leaves_reloaded;
+    leaves_retired += o.leaves_retired;
     return *this;
 }
 
@@ -116,6 +120,7 @@ void validateAtsdfConfig(const AtsdfConfig& c, const std::string& who) {
         bad("max_weight", c.max_weight, "finite and > 0");
     if (!(c.min_range_m >= 0.0)) bad("min_range_m", c.min_range_m, ">= 0");
     if (!(c.max_range_m > c.min_range_m)) bad("max_range_m", c.max_range_m, "> min_range_m");
+    if (c.working_set_scans < 1) bad("working_set_scans", c.working_set_scans, ">= 1");
 }
 
 AtsdfIntegrator::AtsdfIntegrator(VoxelMap& map, const AtsdfConfig& config)
@@ -406,7 +411,7 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
 
     // ---- Phase 3a: find the leaves that do not exist yet (parallel, read-only), then allocate
     // them (serial: tree topology changes are not thread-safe).
-    TsdfTree& tsdf_tree = map_.tsdf()->tree();
+    TsdfTree& tsdf_tree = map_.workingTsdf()->tree();
     const TsdfCodec& codec = map_.codec();
     s.missing_bits.assign(s.leaf_bits.size(), 0);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, local.size(), 64),
@@ -423,14 +428,21 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
         }
     });
     {
+        // A missing leaf is new, or in the compact store: then its values come back from it.
+        std::vector<TsdfLeaf*>& created = s.created;
+        created.clear();
         openvdb::tree::ValueAccessor<TsdfTree> acc(tsdf_tree);
         for (std::size_t b = 0; b < local.size(); ++b) {
             const Coord bc = blocks.blockCoord(local[b].slot);
             forEachBit(s.missing_bits.data() + b * hood.words, hood.words, [&](std::size_t bit) {
-                acc.touchLeaf(hood.origin(bc, bit));
+                const Coord origin = hood.origin(bc, bit);
+                if (acc.probeConstLeaf(origin) == nullptr) created.push_back(acc.touchLeaf(origin));
             });
         }
+        if (map_.compactTsdf().leafCount() > 0) st.leaves_reloaded = map_.reloadIntoWorking(created);
     }
+    // Every leaf a block's updates can reach is stamped with this scan (BlockLeafTable::load).
+    const std::uint32_t stamp = static_cast<std::uint32_t>(totals_.scans + 1);
     st.alloc_s = secondsSince(t0);
     t0 = Clock::now();
 
@@ -476,7 +488,7 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
             // No normal (isolated degenerate block): the ray direction (sdf along the ray).
             const bool has_normal = lb.normal.squaredNorm() > 0.0;
             const Vec3f block_normal = lb.normal.cast<float>();
-            table.load(blocks.blockCoord(lb.slot), s.leaf_bits.data() + b * hood.words, acc);
+            table.load(blocks.blockCoord(lb.slot), s.leaf_bits.data() + b * hood.words, acc, stamp);
             for (std::uint32_t k = lb.begin; k < lb.end; ++k) {
                 const Vec3f& p = points_W[order[k]];
                 const Vec3f& dir = s.dir[k];
@@ -511,6 +523,8 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
     if (config_.space_carving) {
         detail::TsdfLeafCache::Accessor acc(tsdf_tree);
         detail::TsdfLeafCache cache(codec);
+        CompactTsdf& compact = map_.compactTsdf();
+        openvdb::tree::ValueAccessor<const CompactTsdf::TopologyTree, false> compact_acc(compact.topology());
         const float free_sdf = static_cast<float>(trunc.max_m);
         for (std::size_t i = 0; i < n_points; ++i) {
             const std::int32_t l = s.local_of_point[i];
@@ -522,18 +536,28 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
             if (range <= eps) continue;
             detail::traverseSegment(origin_W, ray / range, range - eps - vs, inv_vs,
                                     [&](const Coord& v) {
-                if (cache.fetch(v, acc) && cache.updateObserved(v, free_sdf, 1.0f, max_weight))
+                if (cache.fetch(v, acc)) {
+                    if (cache.updateObserved(v, free_sdf, 1.0f, max_weight)) ++st.carving_updates;
+                } else if (std::uint32_t* value = compact.findObserved(v, compact_acc)) {
+                    detail::observedAverage(*value, free_sdf, 1.0f, max_weight, codec);
                     ++st.carving_updates;
+                }
             });
         }
     }
     st.update_s = secondsSince(t0);
+    t0 = Clock::now();
+
+    // ---- Phase 4: the leaves no scan of the working set could update go to the compact store.
+    const std::uint32_t keep = static_cast<std::uint32_t>(config_.working_set_scans);
+    if (stamp >= keep) st.leaves_retired = map_.retireWorking(stamp - keep + 1);
+    st.retire_s = secondsSince(t0);
     totals_ += st;
     return st;
 }
 
 void AtsdfIntegrator::finalize() {
-    openvdb::tools::pruneInactive(map_.tsdf()->tree());
+    map_.compact();
     // The per-voxel truncation grid is derived from the block statistics when map.vdb is
     // written (VoxelMap::truncationGrid), so it costs no memory while the map is in use.
     openvdb::MetaMap& meta = map_.metadata();

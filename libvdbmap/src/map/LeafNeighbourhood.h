@@ -58,13 +58,16 @@ public:
         : hood_(hood), codec_(codec), max_weight_(max_weight), entries_(hood.size()) {}
 
     /// Resolves the leaves named by `bits` around block `bc` (they exist: phase 3a allocated
-    /// them); the others are absent. Prefetches the block's own leaf.
-    void load(const openvdb::Coord& bc, const std::uint64_t* bits, TsdfLeafCache::Accessor& acc) {
+    /// them); the others are absent. Stamps each with `stamp` (the leaf's transientData: the
+    /// last scan that could update it). Prefetches the block's own leaf.
+    void load(const openvdb::Coord& bc, const std::uint64_t* bits, TsdfLeafCache::Accessor& acc,
+              std::uint32_t stamp) {
         std::fill(entries_.begin(), entries_.end(), Entry{});
         bc_ = bc;
         forEachBit(bits, hood_.words, [&](std::size_t b) {
             TsdfLeaf* leaf = acc.probeLeaf(hood_.origin(bc, b));
             if (leaf != nullptr) {
+                leaf->setTransientData(stamp);
                 entries_[b] = {leaf->buffer().data(),
                                &leaf->getValueMask().template getWord<std::uint64_t>(0)};
             }

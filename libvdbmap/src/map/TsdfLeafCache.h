@@ -10,16 +10,22 @@
 
 namespace vdbmap::detail {
 
-/// Running weighted average of one packed voxel (paper Sec. 4.2):
-/// D' = (W D + w d) / (W + w), W' = min(W + w, max_weight); an unobserved voxel (its bit in
-/// the leaf's value mask off) takes d, w and is marked observed.
+/// Running weighted average of one observed packed voxel (paper Sec. 4.2):
+/// D' = (W D + w d) / (W + w), W' = min(W + w, max_weight).
+inline void observedAverage(std::uint32_t& value, float sdf_m, float w, float max_weight,
+                            const TsdfCodec& codec) {
+    const float W = codec.weight(value);
+    const float D = codec.sdf(value);
+    const float sum = W + w;
+    value = codec.encode((W * D + w * sdf_m) / sum, sum < max_weight ? sum : max_weight);
+}
+
+/// observedAverage, or for an unobserved voxel (its bit in the leaf's value mask off): it takes
+/// d, w and is marked observed.
 inline void runningAverage(std::uint32_t& value, std::uint64_t& mask_word, std::uint64_t bit,
                            float sdf_m, float w, float max_weight, const TsdfCodec& codec) {
     if (mask_word & bit) {
-        const float W = codec.weight(value);
-        const float D = codec.sdf(value);
-        const float sum = W + w;
-        value = codec.encode((W * D + w * sdf_m) / sum, sum < max_weight ? sum : max_weight);
+        observedAverage(value, sdf_m, w, max_weight, codec);
     } else {
         mask_word |= bit;
         value = codec.encode(sdf_m, w < max_weight ? w : max_weight);

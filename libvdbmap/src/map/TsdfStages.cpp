@@ -52,6 +52,10 @@ public:
         spec.add("space_carving",
                  "Push already allocated voxels in front of the band towards free space (+eps_max)",
                  space_carving_, false);
+        spec.add("working_set_scans",
+                 "Scans a leaf stays dense after the last scan that could update it; then it moves "
+                 "to the compact store (lossless: only memory and time depend on it)",
+                 working_set_scans_, 4);
     }
     void initialize() override {
         if (!(voxel_size_m_ > 0.0) || !std::isfinite(voxel_size_m_)) {
@@ -83,6 +87,7 @@ public:
         config_.weight_floor = weight_floor_;
         config_.max_weight = max_weight_;
         config_.space_carving = space_carving_;
+        config_.working_set_scans = working_set_scans_;
         validateAtsdfConfig(config_, std::string(name()));
     }
     void declareLayers(LayerSpec& spec) const override {
@@ -124,6 +129,8 @@ public:
         r.stage(s, "dropped_at_origin", t.dropped_at_origin);
         r.stage(s, "voxel_updates", t.voxel_updates);
         r.stage(s, "carving_updates", t.carving_updates);
+        r.stage(s, "leaves_reloaded", t.leaves_reloaded);
+        r.stage(s, "leaves_retired", t.leaves_retired);
         const std::size_t active = static_cast<std::size_t>(map->activeVoxelCount());
         const std::size_t leaves = static_cast<std::size_t>(map->leafCount());
         r.stage(s, "voxels_active", active);
@@ -147,6 +154,7 @@ private:
     int min_points_ = 5;
     double weight_floor_ = 0.1, max_weight_ = 100.0;
     bool space_carving_ = false;
+    int working_set_scans_ = 4;
     AtsdfConfig config_;
 };
 

@@ -2,8 +2,11 @@
 #include "vdbmap/map/VoxelMap.h"
 
 #include <openvdb/tree/LeafManager.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "vdbmap/Error.h"
@@ -37,17 +40,22 @@ TsdfCodec checkedCodec(double voxel_size_m, float sdf_range_m, float weight_rang
     return TsdfCodec(sdf_range_m, weight_range);
 }
 
-/// A float grid with the topology of `tsdf` and its transform; fill(packed leaf, float leaf)
-/// sets the values of the float leaf's active voxels (in parallel over leaves).
+/// A float grid with the topology of the map's TSDF (both stores) and its transform;
+/// fill(leaf view, float leaf) sets the values of the float leaf's active voxels (in parallel
+/// over leaves).
 template <typename Fill>
-openvdb::FloatGrid::Ptr decodedGrid(const TsdfGrid& tsdf, float background, Fill&& fill) {
-    auto tree = std::make_shared<openvdb::FloatTree>(tsdf.tree(), background, openvdb::TopologyCopy());
+openvdb::FloatGrid::Ptr decodedGrid(const TsdfGrid& working, const CompactTsdf& compact,
+                                    float background, Fill&& fill) {
+    auto tree = std::make_shared<openvdb::FloatTree>(background);
+    tree->topologyUnion(working.tree());
+    tree->topologyUnion(compact.topology());
     openvdb::tree::LeafManager<openvdb::FloatTree> leaves(*tree);
     leaves.foreach([&](openvdb::FloatTree::LeafNodeType& leaf, std::size_t) {
-        fill(*tsdf.tree().probeConstLeaf(leaf.origin()), leaf);
+        const TsdfLeaf* dense = working.tree().probeConstLeaf(leaf.origin());
+        fill(dense != nullptr ? TsdfLeafView::of(*dense) : compact.view(leaf.origin()), leaf);
     });
     auto grid = openvdb::FloatGrid::create(tree);
-    grid->setTransform(tsdf.transform().copy());
+    grid->setTransform(working.transform().copy());
     return grid;
 }
 
@@ -61,32 +69,104 @@ VoxelMap::VoxelMap(double voxel_size_m, float sdf_range_m, float weight_range)
     tsdf_ = TsdfGrid::create(codec_.background());
     tsdf_->setTransform(transform_);
     tsdf_->setName("tsdf");
+    compact_ = std::make_unique<CompactTsdf>();
     block_stats_ = std::make_unique<BlockStatsGrid>();
 }
 
 VoxelMap::~VoxelMap() = default;
 
 void VoxelMap::setVoxel(const openvdb::Coord& ijk, float sdf_m, float weight) {
-    tsdf_->tree().setValueOn(ijk, codec_.encode(sdf_m, weight));
+    TsdfTree& tree = tsdf_->tree();
+    const openvdb::Coord origin = ijk & ~(TsdfLeaf::DIM - 1);
+    if (tree.probeConstLeaf(origin) == nullptr && compact_->view(origin).mask != nullptr)
+        reloadIntoWorking({tree.touchLeaf(origin)});
+    tree.setValueOn(ijk, codec_.encode(sdf_m, weight));
 }
 
 bool VoxelMap::probeVoxel(const openvdb::Coord& ijk, float& sdf_m, float& weight) const {
-    std::uint32_t v = 0;
-    const bool on = tsdf_->tree().probeValue(ijk, v);
+    std::uint32_t v = codec_.background();
+    const openvdb::Coord origin = ijk & ~(TsdfLeaf::DIM - 1);
+    const TsdfLeaf* dense = tsdf_->tree().probeConstLeaf(origin);
+    const TsdfLeafView leaf = dense != nullptr ? TsdfLeafView::of(*dense) : compact_->view(origin);
+    const openvdb::Index offset = TsdfLeaf::coordToOffset(ijk);
+    const bool on = leaf.mask != nullptr && leaf.observed(offset);
+    if (on) v = leaf.value(offset);
     sdf_m = codec_.sdf(v);
     weight = codec_.weight(v);
     return on;
 }
 
-openvdb::Index64 VoxelMap::activeVoxelCount() const { return tsdf_->activeVoxelCount(); }
+std::vector<TsdfLeafView> VoxelMap::leafViews() const {
+    std::vector<TsdfLeafView> views = compact_->views();
+    views.reserve(views.size() + tsdf_->tree().leafCount());
+    for (auto it = tsdf_->tree().cbeginLeaf(); it; ++it) views.push_back(TsdfLeafView::of(*it));
+    return views;
+}
 
-openvdb::Index64 VoxelMap::leafCount() const { return tsdf_->tree().leafCount(); }
+std::size_t VoxelMap::reloadIntoWorking(const std::vector<TsdfLeaf*>& created) {
+    // Parallel decode (read-only on the compact store), then serial erase.
+    std::vector<std::uint8_t> found(created.size(), 0);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, created.size(), 64),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i < r.end(); ++i) {
+            TsdfLeaf& leaf = *created[i];
+            const TsdfLeafView v = compact_->view(leaf.origin());
+            if (v.mask == nullptr) continue;
+            CompactTsdf::decode(v, leaf.getValueMask(), leaf.buffer().data());
+            found[i] = 1;
+        }
+    });
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < created.size(); ++i)
+        if (found[i] != 0) {
+            compact_->erase(created[i]->origin());
+            ++n;
+        }
+    return n;
+}
 
-std::size_t VoxelMap::tsdfMemoryBytes() const { return static_cast<std::size_t>(tsdf_->memUsage()); }
+std::size_t VoxelMap::retireWorking(std::uint32_t min_stamp) {
+    TsdfTree& tree = tsdf_->tree();
+    std::vector<TsdfLeaf*> cold;
+    for (auto it = tree.beginLeaf(); it; ++it)
+        if (it->transientData() < min_stamp) cold.push_back(it.getLeaf());
+    if (cold.empty()) return 0;
+    std::vector<CompactTsdf::Slot> slots(cold.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cold.size(), 64),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i < r.end(); ++i)
+            slots[i] = CompactTsdf::encode(cold[i]->getValueMask(), cold[i]->buffer().data());
+    });
+    for (std::size_t i = 0; i < cold.size(); ++i) {
+        const openvdb::Coord origin = cold[i]->origin();
+        compact_->insert(origin, cold[i]->getValueMask(), std::move(slots[i]));
+        delete tree.stealNode<TsdfLeaf>(origin, codec_.background(), false);
+    }
+    return cold.size();
+}
+
+void VoxelMap::compact() {
+    retireWorking(std::numeric_limits<std::uint32_t>::max());
+    tsdf_->tree().clear();  // the internal nodes left after the leaves moved
+}
+
+openvdb::Index64 VoxelMap::activeVoxelCount() const {
+    return tsdf_->activeVoxelCount() + compact_->voxelCount();
+}
+
+openvdb::Index64 VoxelMap::leafCount() const {
+    return tsdf_->tree().leafCount() + compact_->leafCount();
+}
+
+openvdb::Index64 VoxelMap::workingLeafCount() const { return tsdf_->tree().leafCount(); }
+
+std::size_t VoxelMap::tsdfMemoryBytes() const {
+    return static_cast<std::size_t>(tsdf_->memUsage()) + compact_->memoryBytes();
+}
 
 openvdb::FloatGrid::Ptr VoxelMap::surfaceGrid() const {
-    auto grid = decodedGrid(*tsdf_, codec_.sdfRange(), [&](const TsdfLeaf& packed, auto& leaf) {
-        for (auto it = leaf.beginValueOn(); it; ++it) it.setValue(codec_.sdf(packed.getValue(it.pos())));
+    auto grid = decodedGrid(*tsdf_, *compact_, codec_.sdfRange(), [&](const TsdfLeafView& packed, auto& leaf) {
+        for (auto it = leaf.beginValueOn(); it; ++it) it.setValue(codec_.sdf(packed.value(it.pos())));
     });
     grid->setName("surface");
     grid->setGridClass(openvdb::GRID_LEVEL_SET);
@@ -94,15 +174,15 @@ openvdb::FloatGrid::Ptr VoxelMap::surfaceGrid() const {
 }
 
 openvdb::FloatGrid::Ptr VoxelMap::weightGrid() const {
-    auto grid = decodedGrid(*tsdf_, 0.0f, [&](const TsdfLeaf& packed, auto& leaf) {
-        for (auto it = leaf.beginValueOn(); it; ++it) it.setValue(codec_.weight(packed.getValue(it.pos())));
+    auto grid = decodedGrid(*tsdf_, *compact_, 0.0f, [&](const TsdfLeafView& packed, auto& leaf) {
+        for (auto it = leaf.beginValueOn(); it; ++it) it.setValue(codec_.weight(packed.value(it.pos())));
     });
     grid->setName("weight");
     return grid;
 }
 
 openvdb::FloatGrid::Ptr VoxelMap::truncationGrid(float no_block_m) const {
-    auto grid = decodedGrid(*tsdf_, no_block_m, [&](const TsdfLeaf&, auto& leaf) {
+    auto grid = decodedGrid(*tsdf_, *compact_, no_block_m, [&](const TsdfLeafView&, auto& leaf) {
         const std::int32_t slot = block_stats_->find(BlockStatsGrid::blockOf(leaf.origin()));
         const float eps = slot >= 0 ? block_stats_->entry(slot).truncation_m : no_block_m;
         for (auto it = leaf.beginValueOn(); it; ++it) it.setValue(eps);

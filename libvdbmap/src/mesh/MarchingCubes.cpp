@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "mesh/CubeTable.h"
+#include "vdbmap/map/TsdfReader.h"
 #include "vdbmap/map/VoxelMap.h"
 #include "vdbmap/mesh/MeshCleanup.h"
 
@@ -20,7 +21,6 @@ namespace vdbmap {
 namespace {
 
 using openvdb::Coord;
-using ConstAccessor = openvdb::tree::ValueAccessor<const TsdfTree, false>;
 
 /// 62-bit key of a grid edge: its lower voxel (20 bits per axis, offset 2^19) and its axis.
 std::uint64_t edgeKey(const Coord& lower, int axis) {
@@ -48,37 +48,36 @@ std::shared_ptr<TriMesh> extractMesh(const VoxelMap& map, const MarchingCubesCon
                                      MeshStats* stats_out) {
     MeshStats stats;
     const detail::CubeTable& table = detail::cubeTable();
-    const TsdfTree& tsdf = map.tsdf()->tree();
     const TsdfCodec& codec = map.codec();
     const float vs = static_cast<float>(map.voxelSize());
     const float min_weight = static_cast<float>(config.min_weight);
 
-    std::vector<const TsdfLeaf*> leaves;
-    leaves.reserve(tsdf.leafCount());
-    for (auto it = tsdf.cbeginLeaf(); it; ++it) leaves.push_back(it.getLeaf());
+    // Both stores of the TSDF (VoxelMap); after AtsdfIntegrator::finalize all leaves are compact.
+    const std::vector<TsdfLeafView> leaves = map.leafViews();
     std::vector<LeafMesh> out(leaves.size());
 
     // Parallel per leaf: each cube whose min corner is an active voxel of the leaf.
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 4),
                       [&](const tbb::blocked_range<std::size_t>& r) {
-        ConstAccessor ta(tsdf);
+        TsdfReader ta(map);
         for (std::size_t li = r.begin(); li < r.end(); ++li) {
             LeafMesh& lm = out[li];
-            for (auto it = leaves[li]->cbeginValueOn(); it; ++it) {
-                const Coord c = it.getCoord();
+            const TsdfLeafView& leaf = leaves[li];
+            leaf.forEachObserved([&](openvdb::Index offset) {
+                const Coord c = leaf.origin + TsdfLeaf::offsetToLocalCoord(offset);
                 float val[8];
                 int mask = 0;
                 bool observed = true;
                 for (int k = 0; k < 8 && observed; ++k) {
                     const Coord ck = c.offsetBy(k & 1, (k >> 1) & 1, (k >> 2) & 1);
                     std::uint32_t packed = 0;
-                    observed = ta.probeValue(ck, packed);
+                    observed = ta.probe(ck, packed);
                     const float w = codec.weight(packed);
                     val[k] = codec.sdf(packed);
                     observed = observed && w >= min_weight && w > 0.0f;
                     if (val[k] < 0.0f) mask |= 1 << k;
                 }
-                if (!observed || mask == 0 || mask == 255) continue;
+                if (!observed || mask == 0 || mask == 255) return;
                 ++lm.cubes;
                 std::array<std::uint64_t, 12> keys{};
                 std::uint16_t have = 0;
@@ -105,7 +104,7 @@ std::shared_ptr<TriMesh> extractMesh(const VoxelMap& map, const MarchingCubesCon
                     }
                     lm.triangles.push_back(t);
                 }
-            }
+            });
         }
     });
 

@@ -25,6 +25,11 @@ struct AtsdfConfig {
     bool space_carving = false;
     double min_range_m = 1e-3;      ///< closer to the sensor: dropped as "at origin"
     double max_range_m = 1000.0;    ///< further: dropped as absurd range
+    /// A leaf stays dense in the map's working tree while one of the last `working_set_scans`
+    /// scans could update it; then it moves to the compact store (VoxelMap), and back when a
+    /// later scan reaches it again. Lossless: the map does not depend on it, only the memory
+    /// (small: fewer dense leaves) and the time spent moving leaves (small: less churn).
+    int working_set_scans = 4;
 };
 
 /// Throws ConfigError naming the bad key and value.
@@ -40,13 +45,17 @@ struct IntegrationStats {
     std::size_t dropped_range = 0;
     std::size_t voxel_updates = 0;
     std::size_t carving_updates = 0;
+    std::size_t leaves_reloaded = 0;  ///< compact leaves moved back into the working tree
+    std::size_t leaves_retired = 0;   ///< working leaves moved to the compact store
     /// Wall time of the phases (seconds, summed over scans): classify and bin the points;
     /// merge the block statistics and derive plane, eps and the leaves to touch; allocate
-    /// missing leaves; the voxel updates (and space carving).
+    /// missing leaves (or reload them from the compact store); the voxel updates (and space
+    /// carving); move the leaves that left the working set to the compact store.
     double bin_s = 0.0;
     double stats_s = 0.0;
     double alloc_s = 0.0;
     double update_s = 0.0;
+    double retire_s = 0.0;
 
     IntegrationStats& operator+=(const IntegrationStats& other);
 };
@@ -63,7 +72,9 @@ struct IntegrationStats {
 ///     ray (DDA) get sdf = n . (v - p) (the distance to the block's plane; along the ray when
 ///     the block is degenerate), clamped to [-eps, eps], with weight
 ///     w = incidenceWeight * behindSurfaceFactor, and the running average
-///     D' = (W D + w d) / (W + w), W' = min(W + w, max_weight).
+///     D' = (W D + w d) / (W + w), W' = min(W + w, max_weight);
+///  4. the leaves no scan of the last `working_set_scans` could update move to the map's
+///     compact store (VoxelMap).
 ///
 /// Parallel (TBB) and deterministic: phases 1 and 2 are parallel over points / blocks; phase 3
 /// groups blocks into cells at least as wide as the update reach and runs the 27 colour
@@ -87,8 +98,8 @@ public:
     IntegrationStats integrateScan(const std::vector<Vec3f>& points_L, const Isometry3d& T_W_L);
 
     /// Writes the truncation settings into the map's metadata (map.vdb then also gets the
-    /// per-voxel "truncation" grid, VoxelMap::truncationGrid) and removes leaves without
-    /// active voxels. Call after the last scan.
+    /// per-voxel "truncation" grid, VoxelMap::truncationGrid) and moves every leaf to the
+    /// compact store, dropping leaves without active voxels. Call after the last scan.
     void finalize();
 
     const AtsdfConfig& config() const { return config_; }

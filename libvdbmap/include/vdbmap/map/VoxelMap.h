@@ -7,7 +7,9 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <vector>
 
+#include "vdbmap/map/CompactTsdf.h"
 #include "vdbmap/map/TsdfVoxel.h"
 
 namespace vdbmap {
@@ -15,11 +17,15 @@ namespace vdbmap {
 class BlockStatsGrid;
 
 /// The volumetric map: OpenVDB grids sharing one linear transform of voxel size `voxelSize()`.
-///  - `tsdf()`: ONE packed tree (vdbmap/map/TsdfVoxel.h) whose 32-bit voxels hold the signed
-///    distance D (metres, positive in front of the surface, towards the sensor; background
-///    +sdf range) and the accumulated weight W (background 0 = unobserved). An active voxel is
-///    an observed one. `codec()` decodes a value; `surfaceGrid()` and `weightGrid()` give the
-///    plain float grids of map.vdb ("surface", "weight").
+///  - the TSDF: 32-bit packed voxels (vdbmap/map/TsdfVoxel.h) holding the signed distance D
+///    (metres, positive in front of the surface, towards the sensor; background +sdf range) and
+///    the accumulated weight W (background 0 = unobserved). An active voxel is an observed one.
+///    Each 8^3 leaf lives in one of two stores, never both:
+///      `workingTsdf()`: an OpenVDB tree of dense leaves, the ones the integrator is updating;
+///      `compactTsdf()`: the at-rest store, the observed voxels only (map/CompactTsdf.h).
+///    The integrator moves leaves between them losslessly; `compact()` moves all to the
+///    compact store (AtsdfIntegrator::finalize does). Read through TsdfReader, `leafViews()`,
+///    `probeVoxel()`, or the decoded float grids of map.vdb (`surfaceGrid()`, `weightGrid()`).
 ///  - per-8^3-leaf point statistics (count, mean, covariance) that drive the adaptive
 ///    truncation, see map/BlockStats.h; `truncationGrid()` shows their eps per voxel.
 ///  - `extraGrids()`: further named grids written into map.vdb (e.g. "label").
@@ -37,18 +43,42 @@ public:
     double voxelSize() const { return voxel_size_m_; }
     openvdb::math::Transform::Ptr transform() const { return transform_; }
 
-    /// The packed TSDF grid and its codec.
-    TsdfGrid::Ptr tsdf() const { return tsdf_; }
+    /// The working tree of dense packed leaves, the compact store, and the codec.
+    TsdfGrid::Ptr workingTsdf() const { return tsdf_; }
+    const CompactTsdf& compactTsdf() const { return *compact_; }
+    CompactTsdf& compactTsdf() { return *compact_; }
     const TsdfCodec& codec() const { return codec_; }
 
     /// Slow-path access to one voxel (tests, tools): set it observed with (sdf_m, weight), or
-    /// read it; probeVoxel returns false for an unobserved voxel.
+    /// read it; probeVoxel returns false for an unobserved voxel. setVoxel moves a compact
+    /// leaf into the working tree first.
     void setVoxel(const openvdb::Coord& ijk, float sdf_m, float weight);
     bool probeVoxel(const openvdb::Coord& ijk, float& sdf_m, float& weight) const;
 
+    /// Every leaf of both stores (for parallel loops); the map must not change while in use.
+    std::vector<TsdfLeafView> leafViews() const;
+    /// visit(ijk, packed value) for every observed voxel of both stores (serial, leaf order).
+    template <typename Visit>
+    void forEachVoxel(Visit&& visit) const {
+        for (const TsdfLeafView& leaf : leafViews())
+            leaf.forEachObserved([&](openvdb::Index offset) {
+                visit(leaf.origin + TsdfLeaf::offsetToLocalCoord(offset), leaf.value(offset));
+            });
+    }
+
+    /// Leaves `created` were just added (empty) to the working tree: those that the compact
+    /// store holds get their values back from it and leave it. Returns how many did.
+    std::size_t reloadIntoWorking(const std::vector<TsdfLeaf*>& created);
+    /// Moves the working leaves whose stamp (transientData) is below `min_stamp` to the compact
+    /// store; leaves without an observed voxel are dropped. Returns how many moved.
+    std::size_t retireWorking(std::uint32_t min_stamp);
+    /// Moves every working leaf to the compact store (the map at rest).
+    void compact();
+
     openvdb::Index64 activeVoxelCount() const;
     openvdb::Index64 leafCount() const;
-    /// Bytes of the TSDF tree (distance and weight; statistics excluded).
+    openvdb::Index64 workingLeafCount() const;
+    /// Bytes of the TSDF, both stores (distance and weight; statistics excluded).
     std::size_t tsdfMemoryBytes() const;
 
     /// Decoded float grids with the topology of the TSDF, for map.vdb (DATA.md) and inspection:
@@ -76,6 +106,7 @@ private:
     TsdfCodec codec_;
     openvdb::math::Transform::Ptr transform_;
     TsdfGrid::Ptr tsdf_;
+    std::unique_ptr<CompactTsdf> compact_;
     std::unique_ptr<BlockStatsGrid> block_stats_;
     std::map<std::string, openvdb::GridBase::Ptr> extra_;
     openvdb::MetaMap meta_;
