@@ -23,8 +23,10 @@ def main(path):
         ("meshing s", "mesh_s", "{:.2f}"),
         ("faces", "faces", "{:.0f}"),
         ("peak RSS MB", "peak_rss_mb", "{:.0f}"),
-        ("B/active voxel", "bytes_per_active_voxel", "{:.1f}"),
-        ("B/leaf (tree)", "bytes_per_leaf_grids", "{:.0f}"),
+        ("B/active voxel (at rest)", "bytes_per_active_voxel", "{:.1f}"),
+        ("B/active voxel (last scan, working set dense)", "bytes_per_active_voxel_before_finalize", "{:.1f}"),
+        ("peak TSDF MB", "peak_tsdf_mb", "{:.1f}"),
+        ("B/leaf (at rest)", "bytes_per_leaf_grids", "{:.0f}"),
         ("mean leaf fill", "mean_leaf_fill", "{:.0f}"),
         ("B/leaf stats", "bytes_per_leaf_stats", "{:.0f}"),
     ]
@@ -37,13 +39,14 @@ def main(path):
         print(f"| {key[0]:.2f} | {key[1]} | {key[2]} | {len(runs)} | " + " | ".join(cells) + " |")
     # Phase split of the 0.10 m runs (seconds over all scans, medians).
     print()
-    print("| voxel m | mode | threads | bin s | stats s | alloc s | update s | CPU s | wall s |")
-    print("|---|---|---|---|---|---|---|---|---|")
+    print("| voxel m | mode | threads | bin s | stats s | alloc s | update s | retire s | CPU s | wall s |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for key in sorted(groups, key=lambda k: (k[0] != 0.1, k[0], order.get(k[1], 2), k[2])):
         runs = groups[key]
         med = lambda f: statistics.median(r.get(f, float("nan")) for r in runs)
         print(f"| {key[0]:.2f} | {key[1]} | {key[2]} | {med('phase_bin_s'):.3f} | "
               f"{med('phase_stats_s'):.3f} | {med('phase_alloc_s'):.3f} | {med('phase_update_s'):.3f} | "
+              f"{med('phase_retire_s'):.3f} | "
               f"{med('cpu_s'):.2f} | {med('seconds'):.2f} |")
 
 

@@ -178,7 +178,11 @@ TEST_CASE("the working-set size changes the memory, never the map", "[tsdf][comp
         // At rest every leaf is compact: far below the same topology held in dense leaves.
         CHECK(small.map->workingLeafCount() == 0);
         CHECK(large.map->workingLeafCount() == 0);
-        const TsdfTree dense(small.map->compactTsdf().topology(), 0u, openvdb::TopologyCopy());
+        TsdfTree dense(0u);
+        for (const TsdfLeafView& v : small.map->leafViews()) {
+            TsdfLeaf* leaf = dense.touchLeaf(v.origin);
+            v.forEachObserved([&](openvdb::Index i) { leaf->setValueOn(i); });
+        }
         CHECK(dense.activeVoxelCount() == small.map->activeVoxelCount());
         CHECK(static_cast<double>(small.map->tsdfMemoryBytes()) <
               0.6 * static_cast<double>(dense.memUsage()));

@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "vdbmap/map/CompactTsdf.h"
 
+#include <openvdb/tools/Prune.h>
 #include <openvdb/tree/ValueAccessor.h>
 
 namespace vdbmap {
 
-CompactTsdf::CompactTsdf() : topology_(false) {}
+CompactTsdf::CompactTsdf() : topology_(false), acc_(topology_) {}
 
 CompactTsdf::Slot CompactTsdf::encode(const Mask& observed, const std::uint32_t* dense) {
     Slot slot;
@@ -29,13 +30,13 @@ void CompactTsdf::insert(const openvdb::Coord& origin, const Mask& observed, Slo
         erase(origin);
         return;
     }
-    TopologyLeaf* leaf = topology_.probeLeaf(origin);
-    if (leaf != nullptr) {  // replace the stored values
+    TopologyLeaf* leaf = acc_.probeLeaf(origin);
+    if (leaf != nullptr && leaf->transientData() != kNoSlot) {  // replace the stored values
         Slot& old = slots_[leaf->transientData()];
         voxel_count_ -= old.count;
         old = std::move(slot);
     } else {
-        leaf = topology_.touchLeaf(origin);
+        if (leaf == nullptr) leaf = acc_.touchLeaf(origin);
         std::uint32_t index;
         if (!free_slots_.empty()) {
             index = free_slots_.back();
@@ -53,17 +54,26 @@ void CompactTsdf::insert(const openvdb::Coord& origin, const Mask& observed, Slo
 }
 
 void CompactTsdf::erase(const openvdb::Coord& origin) {
-    TopologyLeaf* leaf = topology_.probeLeaf(origin);
-    if (leaf == nullptr) return;
+    TopologyLeaf* leaf = acc_.probeLeaf(origin);
+    if (leaf == nullptr || leaf->transientData() == kNoSlot) return;
     const std::uint32_t index = leaf->transientData();
     voxel_count_ -= slots_[index].count;
     slots_[index] = Slot{};
     free_slots_.push_back(index);
     --leaf_count_;
-    delete topology_.stealNode<TopologyLeaf>(origin, false, false);
+    // Keep the topology leaf (the working leaf comes back here later), without voxels.
+    leaf->setValuesOff();
+    leaf->setTransientData(kNoSlot);
 }
 
+void CompactTsdf::prune() { openvdb::tools::pruneInactive(topology_); }
+
 TsdfLeafView CompactTsdf::view(const TopologyLeaf& leaf) const {
+    if (leaf.transientData() == kNoSlot) {
+        TsdfLeafView none;
+        none.origin = leaf.origin();
+        return none;
+    }
     const Slot& slot = slots_[leaf.transientData()];
     TsdfLeafView v;
     v.origin = leaf.origin();
@@ -96,7 +106,7 @@ void CompactTsdf::decode(const TsdfLeafView& leaf, Mask& observed, std::uint32_t
 std::uint32_t* CompactTsdf::findObserved(
     const openvdb::Coord& ijk, openvdb::tree::ValueAccessor<const TopologyTree, false>& acc) {
     const TopologyLeaf* leaf = acc.probeConstLeaf(ijk);
-    if (leaf == nullptr) return nullptr;
+    if (leaf == nullptr || leaf->transientData() == kNoSlot) return nullptr;
     const openvdb::Index offset = TopologyLeaf::coordToOffset(ijk);
     const TsdfLeafView v = view(*leaf);
     if (!v.observed(offset)) return nullptr;
@@ -111,11 +121,13 @@ std::size_t CompactTsdf::memoryBytes() const {
 std::vector<TsdfLeafView> CompactTsdf::views() const {
     std::vector<TsdfLeafView> out;
     out.reserve(leaf_count_);
-    for (auto it = topology_.cbeginLeaf(); it; ++it) out.push_back(view(*it));
+    for (auto it = topology_.cbeginLeaf(); it; ++it)
+        if (it->transientData() != kNoSlot) out.push_back(view(*it));
     return out;
 }
 
 void CompactTsdf::clear() {
+    acc_.clear();
     topology_.clear();
     slots_.clear();
     free_slots_.clear();

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "vdbmap/map/VoxelMap.h"
 
+#include <openvdb/tools/Prune.h>
 #include <openvdb/tree/LeafManager.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -48,7 +49,14 @@ openvdb::FloatGrid::Ptr decodedGrid(const TsdfGrid& working, const CompactTsdf& 
                                     float background, Fill&& fill) {
     auto tree = std::make_shared<openvdb::FloatTree>(background);
     tree->topologyUnion(working.tree());
-    tree->topologyUnion(compact.topology());
+    {  // the compact store's tree has other internal nodes: its leaves one by one
+        openvdb::tree::ValueAccessor<openvdb::FloatTree> acc(*tree);
+        for (const TsdfLeafView& v : compact.views()) {
+            openvdb::FloatTree::LeafNodeType* leaf = acc.touchLeaf(v.origin);
+            for (openvdb::Index w = 0; w < TsdfLeaf::NodeMaskType::WORD_COUNT; ++w)
+                leaf->getValueMask().template getWord<std::uint64_t>(w) = v.mask[w];
+        }
+    }
     openvdb::tree::LeafManager<openvdb::FloatTree> leaves(*tree);
     leaves.foreach([&](openvdb::FloatTree::LeafNodeType& leaf, std::size_t) {
         const TsdfLeaf* dense = working.tree().probeConstLeaf(leaf.origin());
@@ -131,23 +139,29 @@ std::size_t VoxelMap::retireWorking(std::uint32_t min_stamp) {
     for (auto it = tree.beginLeaf(); it; ++it)
         if (it->transientData() < min_stamp) cold.push_back(it.getLeaf());
     if (cold.empty()) return 0;
+    // Parallel: encode, then switch the dense leaf's voxels off. Serial: store. Parallel again:
+    // pruneInactive deletes the dense leaves without active voxels (the retired ones, and
+    // allocated leaves no update reached).
     std::vector<CompactTsdf::Slot> slots(cold.size());
+    std::vector<CompactTsdf::Mask> masks(cold.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cold.size(), 64),
                       [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i < r.end(); ++i)
-            slots[i] = CompactTsdf::encode(cold[i]->getValueMask(), cold[i]->buffer().data());
+        for (std::size_t i = r.begin(); i < r.end(); ++i) {
+            masks[i] = cold[i]->getValueMask();
+            slots[i] = CompactTsdf::encode(masks[i], cold[i]->buffer().data());
+            cold[i]->setValuesOff();
+        }
     });
-    for (std::size_t i = 0; i < cold.size(); ++i) {
-        const openvdb::Coord origin = cold[i]->origin();
-        compact_->insert(origin, cold[i]->getValueMask(), std::move(slots[i]));
-        delete tree.stealNode<TsdfLeaf>(origin, codec_.background(), false);
-    }
+    for (std::size_t i = 0; i < cold.size(); ++i)
+        compact_->insert(cold[i]->origin(), masks[i], std::move(slots[i]));
+    openvdb::tools::pruneInactive(tree, /*threaded=*/true);
     return cold.size();
 }
 
 void VoxelMap::compact() {
     retireWorking(std::numeric_limits<std::uint32_t>::max());
     tsdf_->tree().clear();  // the internal nodes left after the leaves moved
+    compact_->prune();
 }
 
 openvdb::Index64 VoxelMap::activeVoxelCount() const {
