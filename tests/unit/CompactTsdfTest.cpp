@@ -186,6 +186,12 @@ TEST_CASE("the working-set size changes the memory, never the map", "[tsdf][comp
         CHECK(dense.activeVoxelCount() == small.map->activeVoxelCount());
         CHECK(static_cast<double>(small.map->tsdfMemoryBytes()) <
               0.6 * static_cast<double>(dense.memUsage()));
+        // The issue's budget, <= 16 B per active voxel (distance and weight, internal nodes
+        // included), holds at rest even on this small map.
+        const double bytes_per_voxel = static_cast<double>(small.map->tsdfMemoryBytes()) /
+                                       static_cast<double>(small.map->activeVoxelCount());
+        INFO("at rest: " << bytes_per_voxel << " B per active voxel");
+        CHECK(bytes_per_voxel <= 16.0);
     }
 }
 
