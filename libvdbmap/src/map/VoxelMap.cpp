@@ -6,6 +6,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -135,9 +136,13 @@ std::size_t VoxelMap::reloadIntoWorking(const std::vector<TsdfLeaf*>& created) {
 
 std::size_t VoxelMap::retireWorking(std::uint32_t min_stamp) {
     TsdfTree& tree = tsdf_->tree();
+    // getNodes walks the internal nodes' child masks: much cheaper than a leaf iterator.
     std::vector<TsdfLeaf*> cold;
-    for (auto it = tree.beginLeaf(); it; ++it)
-        if (it->transientData() < min_stamp) cold.push_back(it.getLeaf());
+    cold.reserve(tree.leafCount());
+    tree.getNodes(cold);
+    cold.erase(std::remove_if(cold.begin(), cold.end(),
+                              [&](const TsdfLeaf* l) { return l->transientData() >= min_stamp; }),
+               cold.end());
     if (cold.empty()) return 0;
     // Parallel: encode, then switch the dense leaf's voxels off. Serial: store. Parallel again:
     // pruneInactive deletes the dense leaves without active voxels (the retired ones, and
