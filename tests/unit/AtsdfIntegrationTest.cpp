@@ -52,6 +52,10 @@ TEST_CASE("Bad configuration is rejected with the key name", "[tsdf][integrate]"
     AtsdfConfig c;
     c.weight_floor = 0.0;
     CHECK_THROWS_WITH(AtsdfIntegrator(map, c), Catch::Contains("weight_floor"));
+    AtsdfConfig ws;
+    ws.working_set_scans = 0;
+    CHECK_THROWS_WITH(AtsdfIntegrator(map, ws),
+                      Catch::Contains("working_set_scans") && Catch::Contains("got 0"));
     CHECK_THROWS_AS(VoxelMap(-0.1), InvalidInput);
     CHECK_THROWS_AS(VoxelMap(std::nan("")), InvalidInput);
 }
