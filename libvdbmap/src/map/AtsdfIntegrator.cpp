@@ -12,6 +12,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "map/CellColouring.h"
 #include "map/RayTraversal.h"
 #include "map/LeafNeighbourhood.h"
 #include "map/RayUpdate.h"
@@ -37,8 +38,6 @@ constexpr float kMaxIndex = 1e9f;
 /// Why a point is dropped (index + 1 into the per-chunk drop counts).
 enum PointStatus : std::uint8_t { kValid = 0, kNonFinite = 1, kAtOrigin = 2, kRange = 3 };
 
-int floorDiv(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
-int mod3(int a) { return ((a % 3) + 3) % 3; }
 
 using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point t0) {
@@ -59,7 +58,7 @@ struct LocalBlock {
     std::int32_t slot = -1;  ///< index into BlockStatsGrid
     std::uint32_t begin = 0, end = 0;
     Vec3d normal = Vec3d::Zero();  ///< normal used for the block's points (zero: ray direction)
-    std::uint64_t sort_key = 0;  ///< (colour, cell) for phase 3
+    detail::CellKey cell;  ///< phase 3's schedule: colour, then cell
 };
 
 using detail::forEachBit;
@@ -446,29 +445,21 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
     st.alloc_s = secondsSince(t0);
     t0 = Clock::now();
 
-    // ---- Phase 3b: colour the blocks by cell (cell width >= update reach) and integrate.
-    const int cell_blocks = std::max(1, (reach_vox + 7) / 8);
-    for (std::size_t b = 0; b < local.size(); ++b) {
-        const Coord& bc = blocks.blockCoord(local[b].slot);
-        const int cx = floorDiv(bc.x(), cell_blocks), cy = floorDiv(bc.y(), cell_blocks),
-                  cz = floorDiv(bc.z(), cell_blocks);
-        const std::uint64_t colour = static_cast<std::uint64_t>(mod3(cx) * 9 + mod3(cy) * 3 + mod3(cz));
-        const std::uint64_t cell = (static_cast<std::uint64_t>(cx & 0xFFFFF) << 40) |
-                                   (static_cast<std::uint64_t>(cy & 0xFFFFF) << 20) |
-                                   static_cast<std::uint64_t>(cz & 0xFFFFF);
-        local[b].sort_key = (colour << 60) | cell;
-    }
+    // ---- Phase 3b: colour the blocks by cell (2 neighbourhood radii wide) and integrate.
+    const int cell_blocks = 2 * hood.radius;
+    for (std::size_t b = 0; b < local.size(); ++b)
+        local[b].cell = detail::cellKeyOf(blocks.blockCoord(local[b].slot), cell_blocks);
     std::vector<std::uint32_t>& by_cell = s.by_cell;
     by_cell.resize(local.size());
     for (std::size_t b = 0; b < local.size(); ++b) by_cell[b] = static_cast<std::uint32_t>(b);
     std::sort(by_cell.begin(), by_cell.end(), [&](std::uint32_t a, std::uint32_t b) {
-        return local[a].sort_key != local[b].sort_key ? local[a].sort_key < local[b].sort_key : a < b;
+        return local[a].cell != local[b].cell ? local[a].cell < local[b].cell : a < b;
     });
     // Cell ranges within by_cell, and the colour boundaries.
     std::vector<std::uint32_t>& cell_begin = s.cell_begin;
     cell_begin.clear();
     for (std::size_t i = 0; i < by_cell.size(); ++i)
-        if (i == 0 || local[by_cell[i]].sort_key != local[by_cell[i - 1]].sort_key)
+        if (i == 0 || local[by_cell[i]].cell != local[by_cell[i - 1]].cell)
             cell_begin.push_back(static_cast<std::uint32_t>(i));
     cell_begin.push_back(static_cast<std::uint32_t>(by_cell.size()));
 
@@ -503,10 +494,9 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
     s.updates_per_cell.assign(num_cells, 0);
     std::size_t colour_start = 0;
     while (colour_start < num_cells) {
-        const std::uint64_t colour = local[by_cell[cell_begin[colour_start]]].sort_key >> 60;
+        const std::uint32_t colour = local[by_cell[cell_begin[colour_start]]].cell.colour;
         std::size_t colour_end = colour_start;
-        while (colour_end < num_cells &&
-               (local[by_cell[cell_begin[colour_end]]].sort_key >> 60) == colour)
+        while (colour_end < num_cells && local[by_cell[cell_begin[colour_end]]].cell.colour == colour)
             ++colour_end;
         tbb::parallel_for(tbb::blocked_range<std::size_t>(colour_start, colour_end, 1),
                           [&](const tbb::blocked_range<std::size_t>& r) {

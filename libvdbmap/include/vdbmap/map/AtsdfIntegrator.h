@@ -77,10 +77,10 @@ struct IntegrationStats {
 ///     compact store (VoxelMap).
 ///
 /// Parallel (TBB) and deterministic: phases 1 and 2 are parallel over points / blocks; phase 3
-/// groups blocks into cells at least as wide as the update reach and runs the 27 colour
-/// classes (cell coordinate mod 3) one after another, cells of one colour in parallel. Cells of
-/// one colour never write the same voxel, and each voxel sees its updates in a fixed order
-/// (colour, then block order of first appearance, then point order): the result does not
+/// groups blocks into cells twice as wide as the update reach (map/CellColouring.h) and runs the
+/// 8 colour classes (cell coordinate mod 2) one after another, cells of one colour in parallel.
+/// Cells of one colour never write the same voxel, and each voxel sees its updates in a fixed
+/// order (colour, cell, then block order of first appearance, then point order): the result does not
 /// depend on the thread count. No atomics, no locks in the voxel loop.
 class AtsdfIntegrator {
 public:

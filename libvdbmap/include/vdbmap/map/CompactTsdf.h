@@ -72,9 +72,10 @@ struct TsdfLeafView {
 /// leaves it has not touched for a while here, losslessly.
 class CompactTsdf {
 public:
-    /// Internal nodes of 16^3 and 8^3 children (the standard MaskTree has 32^3 and 16^3): at rest
-    /// they cost ~8 KiB per 6.4 m cube of 0.10 m voxels instead of ~33 KiB per 12.8 m cube, the
-    /// larger share of the at-rest bytes on a sparse band. The 8^3 leaves are the TSDF's.
+    /// Internal nodes of 16^3 and 8^3 children (the standard MaskTree has 32^3 and 16^3): with
+    /// 0.10 m voxels ~4 KiB per 6.4 m cube (and ~33 KiB per 102 m cube above) instead of ~33 KiB
+    /// per 12.8 m cube (and ~260 KiB per 410 m cube); on a sparse band the standard nodes cost
+    /// more than the values. The 8^3 leaves are the TSDF's.
     using TopologyTree = openvdb::tree::Tree4<openvdb::ValueMask, 4, 3, 3>::Type;
     using TopologyLeaf = TopologyTree::LeafNodeType;
     using Mask = TsdfLeaf::NodeMaskType;
