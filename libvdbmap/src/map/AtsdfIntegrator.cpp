@@ -61,7 +61,6 @@ struct LocalBlock {
     detail::CellKey cell;  ///< phase 3's schedule: colour, then cell
 };
 
-using detail::forEachBit;
 using detail::LeafNeighbourhood;
 
 }  // namespace
@@ -420,7 +419,7 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
             const Coord bc = blocks.blockCoord(local[b].slot);
             const std::uint64_t* bits = s.leaf_bits.data() + b * hood.words;
             std::uint64_t* missing = s.missing_bits.data() + b * hood.words;
-            forEachBit(bits, hood.words, [&](std::size_t bit) {
+            forEachSetBit(bits, hood.words, [&](std::size_t bit) {
                 if (acc.probeConstLeaf(hood.origin(bc, bit)) == nullptr)
                     missing[bit / 64] |= std::uint64_t{1} << (bit % 64);
             });
@@ -433,7 +432,7 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
         openvdb::tree::ValueAccessor<TsdfTree> acc(tsdf_tree);
         for (std::size_t b = 0; b < local.size(); ++b) {
             const Coord bc = blocks.blockCoord(local[b].slot);
-            forEachBit(s.missing_bits.data() + b * hood.words, hood.words, [&](std::size_t bit) {
+            forEachSetBit(s.missing_bits.data() + b * hood.words, hood.words, [&](std::size_t bit) {
                 const Coord origin = hood.origin(bc, bit);
                 if (acc.probeConstLeaf(origin) == nullptr) created.push_back(acc.touchLeaf(origin));
             });

@@ -19,9 +19,8 @@ CompactTsdf::Slot CompactTsdf::encode(const Mask& observed, const std::uint32_t*
     if (n == 0) return slot;
     slot.values.reset(new std::uint32_t[n]);
     std::uint32_t* out = slot.values.get();
-    for (openvdb::Index w = 0; w < Mask::WORD_COUNT; ++w)
-        for (std::uint64_t bits = observed.getWord<std::uint64_t>(w); bits != 0; bits &= bits - 1)
-            *out++ = dense[w * 64 + static_cast<openvdb::Index>(__builtin_ctzll(bits))];
+    forEachSetBit(TsdfLeafView::words(observed), Mask::WORD_COUNT,
+                  [&](std::size_t i) { *out++ = dense[i]; });
     return slot;
 }
 
@@ -94,13 +93,10 @@ TsdfLeafView CompactTsdf::view(const openvdb::Coord& origin) const {
 }
 
 void CompactTsdf::decode(const TsdfLeafView& leaf, Mask& observed, std::uint32_t* dense) {
-    std::uint64_t* words = &observed.template getWord<std::uint64_t>(0);
+    for (openvdb::Index w = 0; w < Mask::WORD_COUNT; ++w)
+        observed.template getWord<std::uint64_t>(w) = leaf.mask[w];
     const std::uint32_t* in = leaf.values;
-    for (openvdb::Index w = 0; w < Mask::WORD_COUNT; ++w) {
-        words[w] = leaf.mask[w];
-        for (std::uint64_t bits = leaf.mask[w]; bits != 0; bits &= bits - 1)
-            dense[w * 64 + static_cast<openvdb::Index>(__builtin_ctzll(bits))] = *in++;
-    }
+    leaf.forEachObserved([&](openvdb::Index i) { dense[i] = *in++; });
 }
 
 std::uint32_t* CompactTsdf::findObserved(

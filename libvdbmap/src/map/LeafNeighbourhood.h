@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "map/TsdfLeafCache.h"
+#include "vdbmap/core/Bits.h"
 #include "vdbmap/map/TsdfVoxel.h"
 
 namespace vdbmap::detail {
@@ -41,12 +42,7 @@ struct LeafNeighbourhood {
     }
 };
 
-template <typename Visit>
-void forEachBit(const std::uint64_t* words, std::size_t n_words, Visit&& visit) {
-    for (std::size_t w = 0; w < n_words; ++w)
-        for (std::uint64_t bits = words[w]; bits != 0; bits &= bits - 1)
-            visit(w * 64 + static_cast<std::size_t>(__builtin_ctzll(bits)));
-}
+using vdbmap::forEachSetBit;
 
 /// The sink of integrateRay (map/RayUpdate.h) for the points of one block: the raw values and
 /// masks of the leaves of the block's neighbourhood, resolved once per block (`load`) from the
@@ -64,7 +60,7 @@ public:
               std::uint32_t stamp) {
         std::fill(entries_.begin(), entries_.end(), Entry{});
         bc_ = bc;
-        forEachBit(bits, hood_.words, [&](std::size_t b) {
+        forEachSetBit(bits, hood_.words, [&](std::size_t b) {
             TsdfLeaf* leaf = acc.probeLeaf(hood_.origin(bc, b));
             if (leaf != nullptr) {
                 leaf->setTransientData(stamp);

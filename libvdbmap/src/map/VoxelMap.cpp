@@ -2,7 +2,6 @@
 #include "vdbmap/map/VoxelMap.h"
 
 #include <openvdb/tools/Prune.h>
-#include <openvdb/tree/LeafManager.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -46,25 +45,24 @@ TsdfCodec checkedCodec(double voxel_size_m, float sdf_range_m, float weight_rang
 /// fill(leaf view, float leaf) sets the values of the float leaf's active voxels (in parallel
 /// over leaves).
 template <typename Fill>
-openvdb::FloatGrid::Ptr decodedGrid(const TsdfGrid& working, const CompactTsdf& compact,
-                                    float background, Fill&& fill) {
+openvdb::FloatGrid::Ptr decodedGrid(const VoxelMap& map, float background, Fill&& fill) {
     auto tree = std::make_shared<openvdb::FloatTree>(background);
-    tree->topologyUnion(working.tree());
-    {  // the compact store's tree has other internal nodes: its leaves one by one
+    const std::vector<TsdfLeafView> views = map.leafViews();
+    std::vector<openvdb::FloatTree::LeafNodeType*> leaves(views.size());
+    {
         openvdb::tree::ValueAccessor<openvdb::FloatTree> acc(*tree);
-        for (const TsdfLeafView& v : compact.views()) {
-            openvdb::FloatTree::LeafNodeType* leaf = acc.touchLeaf(v.origin);
+        for (std::size_t i = 0; i < views.size(); ++i) {
+            leaves[i] = acc.touchLeaf(views[i].origin);
             for (openvdb::Index w = 0; w < TsdfLeaf::NodeMaskType::WORD_COUNT; ++w)
-                leaf->getValueMask().template getWord<std::uint64_t>(w) = v.mask[w];
+                leaves[i]->getValueMask().template getWord<std::uint64_t>(w) = views[i].mask[w];
         }
     }
-    openvdb::tree::LeafManager<openvdb::FloatTree> leaves(*tree);
-    leaves.foreach([&](openvdb::FloatTree::LeafNodeType& leaf, std::size_t) {
-        const TsdfLeaf* dense = working.tree().probeConstLeaf(leaf.origin());
-        fill(dense != nullptr ? TsdfLeafView::of(*dense) : compact.view(leaf.origin()), leaf);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, views.size(), 64),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i < r.end(); ++i) fill(views[i], *leaves[i]);
     });
     auto grid = openvdb::FloatGrid::create(tree);
-    grid->setTransform(working.transform().copy());
+    grid->setTransform(map.transform()->copy());
     return grid;
 }
 
@@ -94,9 +92,7 @@ void VoxelMap::setVoxel(const openvdb::Coord& ijk, float sdf_m, float weight) {
 
 bool VoxelMap::probeVoxel(const openvdb::Coord& ijk, float& sdf_m, float& weight) const {
     std::uint32_t v = codec_.background();
-    const openvdb::Coord origin = ijk & ~(TsdfLeaf::DIM - 1);
-    const TsdfLeaf* dense = tsdf_->tree().probeConstLeaf(origin);
-    const TsdfLeafView leaf = dense != nullptr ? TsdfLeafView::of(*dense) : compact_->view(origin);
+    const TsdfLeafView leaf = leafView(ijk & ~(TsdfLeaf::DIM - 1));
     const openvdb::Index offset = TsdfLeaf::coordToOffset(ijk);
     const bool on = leaf.mask != nullptr && leaf.observed(offset);
     if (on) v = leaf.value(offset);
@@ -105,10 +101,16 @@ bool VoxelMap::probeVoxel(const openvdb::Coord& ijk, float& sdf_m, float& weight
     return on;
 }
 
+TsdfLeafView VoxelMap::leafView(const openvdb::Coord& origin) const {
+    const TsdfLeaf* dense = tsdf_->tree().probeConstLeaf(origin);
+    return dense != nullptr ? TsdfLeafView::of(*dense) : compact_->view(origin);
+}
+
 std::vector<TsdfLeafView> VoxelMap::leafViews() const {
     std::vector<TsdfLeafView> views = compact_->views();
-    views.reserve(views.size() + tsdf_->tree().leafCount());
-    for (auto it = tsdf_->tree().cbeginLeaf(); it; ++it) views.push_back(TsdfLeafView::of(*it));
+    std::vector<const TsdfLeaf*> dense;
+    tsdf_->tree().getNodes(dense);
+    for (const TsdfLeaf* leaf : dense) views.push_back(TsdfLeafView::of(*leaf));
     return views;
 }
 
@@ -138,7 +140,6 @@ std::size_t VoxelMap::retireWorking(std::uint32_t min_stamp) {
     TsdfTree& tree = tsdf_->tree();
     // getNodes walks the internal nodes' child masks: much cheaper than a leaf iterator.
     std::vector<TsdfLeaf*> cold;
-    cold.reserve(tree.leafCount());
     tree.getNodes(cold);
     cold.erase(std::remove_if(cold.begin(), cold.end(),
                               [&](const TsdfLeaf* l) { return l->transientData() >= min_stamp; }),
@@ -184,7 +185,7 @@ std::size_t VoxelMap::tsdfMemoryBytes() const {
 }
 
 openvdb::FloatGrid::Ptr VoxelMap::surfaceGrid() const {
-    auto grid = decodedGrid(*tsdf_, *compact_, codec_.sdfRange(), [&](const TsdfLeafView& packed, auto& leaf) {
+    auto grid = decodedGrid(*this, codec_.sdfRange(), [&](const TsdfLeafView& packed, auto& leaf) {
         for (auto it = leaf.beginValueOn(); it; ++it) it.setValue(codec_.sdf(packed.value(it.pos())));
     });
     grid->setName("surface");
@@ -193,7 +194,7 @@ openvdb::FloatGrid::Ptr VoxelMap::surfaceGrid() const {
 }
 
 openvdb::FloatGrid::Ptr VoxelMap::weightGrid() const {
-    auto grid = decodedGrid(*tsdf_, *compact_, 0.0f, [&](const TsdfLeafView& packed, auto& leaf) {
+    auto grid = decodedGrid(*this, 0.0f, [&](const TsdfLeafView& packed, auto& leaf) {
         for (auto it = leaf.beginValueOn(); it; ++it) it.setValue(codec_.weight(packed.value(it.pos())));
     });
     grid->setName("weight");
@@ -201,7 +202,7 @@ openvdb::FloatGrid::Ptr VoxelMap::weightGrid() const {
 }
 
 openvdb::FloatGrid::Ptr VoxelMap::truncationGrid(float no_block_m) const {
-    auto grid = decodedGrid(*tsdf_, *compact_, no_block_m, [&](const TsdfLeafView&, auto& leaf) {
+    auto grid = decodedGrid(*this, no_block_m, [&](const TsdfLeafView&, auto& leaf) {
         const std::int32_t slot = block_stats_->find(BlockStatsGrid::blockOf(leaf.origin()));
         const float eps = slot >= 0 ? block_stats_->entry(slot).truncation_m : no_block_m;
         for (auto it = leaf.beginValueOn(); it; ++it) it.setValue(eps);

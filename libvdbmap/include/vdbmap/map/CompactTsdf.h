@@ -10,6 +10,7 @@
 #include <memory>
 #include <vector>
 
+#include "vdbmap/core/Bits.h"
 #include "vdbmap/map/TsdfVoxel.h"
 
 namespace vdbmap {
@@ -50,9 +51,8 @@ struct TsdfLeafView {
     /// visit(offset) for each observed voxel, in offset order.
     template <typename Visit>
     void forEachObserved(Visit&& visit) const {
-        for (openvdb::Index w = 0; w < TsdfLeaf::NodeMaskType::WORD_COUNT; ++w)
-            for (std::uint64_t on = mask[w]; on != 0; on &= on - 1)
-                visit(w * 64 + static_cast<openvdb::Index>(__builtin_ctzll(on)));
+        forEachSetBit(mask, TsdfLeaf::NodeMaskType::WORD_COUNT,
+                      [&](std::size_t i) { visit(static_cast<openvdb::Index>(i)); });
     }
     /// The packed value of an observed voxel (offset in the leaf).
     std::uint32_t value(openvdb::Index offset) const {

@@ -39,12 +39,6 @@ public:
         return true;
     }
 
-    /// The view of the leaf with this origin (mask == nullptr: none).
-    const TsdfLeafView& leaf(const openvdb::Coord& origin) {
-        if (origin != leaf_.origin) enter(origin);
-        return leaf_;
-    }
-
 private:
     void enter(const openvdb::Coord& origin) {
         if (has_working_) {

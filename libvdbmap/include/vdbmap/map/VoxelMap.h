@@ -55,6 +55,9 @@ public:
     void setVoxel(const openvdb::Coord& ijk, float sdf_m, float weight);
     bool probeVoxel(const openvdb::Coord& ijk, float& sdf_m, float& weight) const;
 
+    /// The leaf with this origin (a multiple of 8) from whichever store holds it; mask ==
+    /// nullptr: none. For one look-up; TsdfReader caches the leaf for many.
+    TsdfLeafView leafView(const openvdb::Coord& origin) const;
     /// Every leaf of both stores (for parallel loops); the map must not change while in use.
     std::vector<TsdfLeafView> leafViews() const;
     /// visit(ijk, packed value) for every observed voxel of both stores (serial, leaf order).
