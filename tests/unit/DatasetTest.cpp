@@ -3,9 +3,9 @@
 #include <set>
 
 #include "unit/KittiFixture.h"
+#include "vdbmap/core/OptionSpec.h"
 #include "vdbmap/io/Dataset.h"
 #include "vdbmap/io/LabelSet.h"
-#include "vdbmap/pipeline/OptionSpec.h"
 
 using namespace vdbmap;
 using Catch::Matchers::Contains;

@@ -5,8 +5,8 @@
 
 #include "vdbmap/Error.h"
 #include "vdbmap/eval/TextureMetrics.h"
-#include "vdbmap/eval/TexturedRender.h"
 #include "vdbmap/render/Raycaster.h"
+#include "vdbmap/render/TexturedRender.h"
 
 using namespace vdbmap;
 

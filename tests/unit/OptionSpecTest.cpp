@@ -2,7 +2,7 @@
 #include <catch2/catch.hpp>
 
 #include "vdbmap/Error.h"
-#include "vdbmap/pipeline/OptionSpec.h"
+#include "vdbmap/core/OptionSpec.h"
 
 using namespace vdbmap;
 

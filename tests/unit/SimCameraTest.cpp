@@ -4,13 +4,13 @@
 #include <filesystem>
 
 #include "sim/SimImaging.h"
-#include "vdbmap/eval/TexturedRender.h"
 #include "vdbmap/io/CalibIO.h"
 #include "vdbmap/io/Image.h"
 #include "vdbmap/io/MeshIO.h"
 #include "vdbmap/io/PointCloudIO.h"
 #include "vdbmap/io/PoseIO.h"
 #include "vdbmap/render/Raycaster.h"
+#include "vdbmap/render/TexturedRender.h"
 #include "vdbmap/sim/SimSequence.h"
 
 using namespace vdbmap;

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "vdbmap/io/DatasetCameraConfig.h"
 
-#include "vdbmap/pipeline/OptionSpec.h"
+#include "vdbmap/core/OptionSpec.h"
 
 namespace vdbmap {
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
+#include "vdbmap/core/OptionSpec.h"
 #include "vdbmap/io/Dataset.h"
-#include "vdbmap/pipeline/OptionSpec.h"
 
 namespace vdbmap {
 

@@ -6,7 +6,7 @@
 #include "pipeline/DatasetYaml.h"
 #include "pipeline/YamlOptions.h"
 #include "vdbmap/Error.h"
-#include "vdbmap/pipeline/OptionSpec.h"
+#include "vdbmap/core/OptionSpec.h"
 
 namespace vdbmap {
 namespace fs = std::filesystem;

@@ -5,7 +5,7 @@
 #include <filesystem>
 
 #include "vdbmap/Error.h"
-#include "vdbmap/pipeline/OptionSpec.h"
+#include "vdbmap/core/OptionSpec.h"
 
 namespace vdbmap::detail {
 namespace {

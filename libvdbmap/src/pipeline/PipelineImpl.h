@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
+#include "vdbmap/core/OptionSpec.h"
 #include "vdbmap/io/Dataset.h"
 #include "vdbmap/pipeline/LayerSpec.h"
-#include "vdbmap/pipeline/OptionSpec.h"
 #include "vdbmap/pipeline/Pipeline.h"
 #include "vdbmap/pipeline/Stage.h"
 

@@ -1,13 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "vdbmap/pipeline/StageRegistry.h"
 
-#include <openvdb/openvdb.h>
-
 #include <algorithm>
 #include <map>
 #include <mutex>
 
-#include "map/TsdfStages.h"
 #include "vdbmap/Error.h"
 
 namespace vdbmap {
@@ -70,16 +67,6 @@ std::vector<StageRegistry::Entry> StageRegistry::entries() const {
     out.reserve(impl_->entries.size());
     for (const auto& [name, entry] : impl_->entries) out.push_back(entry);
     return out;
-}
-
-void registerBuiltinStages() {
-    // One-time set-up of the library: the OpenVDB type registry lives in this shared library,
-    // so plugins and apps never call openvdb::initialize() themselves.
-    static std::once_flag once;
-    std::call_once(once, [] {
-        openvdb::initialize();
-        detail::registerTsdfStages(StageRegistry::instance());
-    });
 }
 
 }  // namespace vdbmap

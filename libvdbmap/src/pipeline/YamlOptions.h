@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "vdbmap/pipeline/OptionSpec.h"
+#include "vdbmap/core/OptionSpec.h"
 
 namespace vdbmap::detail {
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "vdbmap/eval/TexturedRender.h"
+#include "vdbmap/render/TexturedRender.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

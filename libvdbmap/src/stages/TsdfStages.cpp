@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "map/TsdfStages.h"
+#include "stages/TsdfStages.h"
 
 #include <openvdb/openvdb.h>
 

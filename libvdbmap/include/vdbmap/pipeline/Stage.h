@@ -5,8 +5,8 @@
 #include <string_view>
 
 #include "vdbmap/Error.h"
+#include "vdbmap/core/OptionSpec.h"
 #include "vdbmap/pipeline/LayerSpec.h"
-#include "vdbmap/pipeline/OptionSpec.h"
 
 namespace vdbmap {
 

@@ -5,8 +5,8 @@
 #include <string>
 
 #include "vdbmap/Error.h"
-#include "vdbmap/eval/TexturedRender.h"
 #include "vdbmap/render/Raycaster.h"
+#include "vdbmap/render/TexturedRender.h"
 
 namespace vdbmap {
 

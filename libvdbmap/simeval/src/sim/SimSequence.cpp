@@ -17,7 +17,6 @@
 #include "vdbmap/core/Log.h"
 #include "vdbmap/core/Progress.h"
 #include "vdbmap/eval/GtViews.h"
-#include "vdbmap/eval/TexturedRender.h"
 #include "vdbmap/io/AtomicFile.h"
 #include "vdbmap/io/CalibIO.h"
 #include "vdbmap/io/Image.h"
@@ -26,6 +25,7 @@
 #include "vdbmap/io/PointCloudIO.h"
 #include "vdbmap/io/PoseIO.h"
 #include "vdbmap/render/Raycaster.h"
+#include "vdbmap/render/TexturedRender.h"
 #include "vdbmap/sim/LidarModel.h"
 #include "vdbmap/sim/Scenes.h"
 
