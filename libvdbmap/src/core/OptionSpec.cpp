@@ -91,44 +91,35 @@ bool convert(const OptionValue& value, OptionType want, OptionValue& out) {
     return false;
 }
 
+/// Writes a converted value (of the option's type) into the bound member.
 void assign(const OptionInfo& info, const OptionValue& value) {
-    switch (info.cxx_type) {
-        case OptionCxxType::Bool:
-            *static_cast<bool*>(info.target) = std::get<bool>(value);
-            break;
-        case OptionCxxType::Int:
-            *static_cast<int*>(info.target) = static_cast<int>(std::get<std::int64_t>(value));
-            break;
-        case OptionCxxType::Int64:
-            *static_cast<std::int64_t*>(info.target) = std::get<std::int64_t>(value);
-            break;
-        case OptionCxxType::Double:
-            *static_cast<double*>(info.target) = std::get<double>(value);
-            break;
-        case OptionCxxType::String:
-            *static_cast<std::string*>(info.target) = std::get<std::string>(value);
-            break;
-        case OptionCxxType::DoubleVec:
-            *static_cast<std::vector<double>*>(info.target) = std::get<std::vector<double>>(value);
-            break;
-        case OptionCxxType::IntVec: {
-            const auto& v = std::get<std::vector<std::int64_t>>(value);
-            *static_cast<std::vector<int>*>(info.target) = std::vector<int>(v.begin(), v.end());
-            break;
-        }
-        case OptionCxxType::Int64Vec:
-            *static_cast<std::vector<std::int64_t>*>(info.target) =
-                std::get<std::vector<std::int64_t>>(value);
-            break;
-        case OptionCxxType::StringVec:
-            *static_cast<std::vector<std::string>*>(info.target) =
-                std::get<std::vector<std::string>>(value);
-            break;
-    }
+    std::visit(
+        [&value](auto* member) {
+            using Member = std::remove_pointer_t<decltype(member)>;
+            using Stored = typename detail::OptionStored<Member>::type;
+            *member = detail::convertOptionValue<Member>(std::get<Stored>(value));
+        },
+        info.target);
 }
 
 bool fitsInt(std::int64_t v) {
     return v >= std::numeric_limits<int>::min() && v <= std::numeric_limits<int>::max();
+}
+
+/// An int member (or a list of them) takes only values that fit in 32 bits.
+void checkIntRange(const OptionInfo& info, const OptionValue& value) {
+    if (std::holds_alternative<int*>(info.target) && !fitsInt(std::get<std::int64_t>(value))) {
+        throw ConfigError("option '" + info.key + "': value " + formatOptionValue(value) +
+                          " does not fit in a 32-bit int");
+    }
+    if (std::holds_alternative<std::vector<int>*>(info.target)) {
+        for (std::int64_t v : std::get<std::vector<std::int64_t>>(value)) {
+            if (!fitsInt(v)) {
+                throw ConfigError("option '" + info.key + "': element " + std::to_string(v) +
+                                  " does not fit in a 32-bit int");
+            }
+        }
+    }
 }
 
 }  // namespace
@@ -181,18 +172,7 @@ void OptionSpec::set(const std::string& key, const OptionValue& value) {
                           ", found " + optionTypeName(typeOfValue(value)) + " " +
                           formatOptionValue(value));
     }
-    if (info->cxx_type == OptionCxxType::Int && !fitsInt(std::get<std::int64_t>(converted))) {
-        throw ConfigError("option '" + key + "': value " + formatOptionValue(converted) +
-                          " does not fit in a 32-bit int");
-    }
-    if (info->cxx_type == OptionCxxType::IntVec) {
-        for (std::int64_t v : std::get<std::vector<std::int64_t>>(converted)) {
-            if (!fitsInt(v)) {
-                throw ConfigError("option '" + key + "': element " + std::to_string(v) +
-                                  " does not fit in a 32-bit int");
-            }
-        }
-    }
+    checkIntRange(*info, converted);
     assign(*info, converted);
 }
 
@@ -205,25 +185,13 @@ OptionValue OptionSpec::value(const std::string& key) const {
 }
 
 OptionValue currentValue(const OptionInfo& info) {
-    switch (info.cxx_type) {
-        case OptionCxxType::Bool: return *static_cast<const bool*>(info.target);
-        case OptionCxxType::Int:
-            return static_cast<std::int64_t>(*static_cast<const int*>(info.target));
-        case OptionCxxType::Int64: return *static_cast<const std::int64_t*>(info.target);
-        case OptionCxxType::Double: return *static_cast<const double*>(info.target);
-        case OptionCxxType::String: return *static_cast<const std::string*>(info.target);
-        case OptionCxxType::DoubleVec:
-            return *static_cast<const std::vector<double>*>(info.target);
-        case OptionCxxType::IntVec: {
-            const auto& v = *static_cast<const std::vector<int>*>(info.target);
-            return std::vector<std::int64_t>(v.begin(), v.end());
-        }
-        case OptionCxxType::Int64Vec:
-            return *static_cast<const std::vector<std::int64_t>*>(info.target);
-        case OptionCxxType::StringVec:
-            return *static_cast<const std::vector<std::string>*>(info.target);
-    }
-    return false;
+    return std::visit(
+        [](const auto* member) -> OptionValue {
+            using Member = std::remove_cv_t<std::remove_pointer_t<decltype(member)>>;
+            using Stored = typename detail::OptionStored<Member>::type;
+            return detail::convertOptionValue<Stored>(*member);
+        },
+        info.target);
 }
 
 std::string formatOptionValue(const OptionValue& value) {

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <string>
+#include <type_traits>
 #include <variant>
 #include <vector>
 
@@ -15,8 +16,11 @@ using OptionValue = std::variant<bool, std::int64_t, double, std::string, std::v
 /// Type tag of an option, in the order of OptionValue's alternatives.
 enum class OptionType { Bool, Int, Double, String, DoubleList, IntList, StringList };
 
-/// The C++ type of the member an option is bound to (int vs int64, vector<int> vs ...).
-enum class OptionCxxType { Bool, Int, Int64, Double, String, DoubleVec, IntVec, Int64Vec, StringVec };
+/// The stage member an option is bound to: one typed pointer per supported member type
+/// (an int member holds an Int value, a vector<int> an IntList...).
+using OptionTarget =
+    std::variant<bool*, int*, std::int64_t*, double*, std::string*, std::vector<double>*,
+                 std::vector<int>*, std::vector<std::int64_t>*, std::vector<std::string>*>;
 
 /// Human-readable name of an option type ("bool", "int", "double", "string", "list<double>"...).
 const char* optionTypeName(OptionType type);
@@ -29,8 +33,7 @@ struct OptionInfo {
     OptionType type;
     bool required = false;      ///< no default; a missing key is a ConfigError
     OptionValue default_value;  ///< meaningful when !required
-    void* target = nullptr;     ///< bound member, of C++ type `cxx_type`
-    OptionCxxType cxx_type = OptionCxxType::Bool;
+    OptionTarget target;        ///< the bound member
 };
 
 /// The options of one stage (PDAL ProgramArgs, kiss-icp config structs). A stage declares
@@ -66,6 +69,9 @@ public:
     std::string keyList() const;
 
 private:
+    template <typename T>
+    static OptionInfo bind(const std::string& key, const std::string& doc, T& member,
+                           const T& default_value, bool required, const std::string& unit);
     void push(OptionInfo info);
     std::vector<OptionInfo> options_;
 };
@@ -79,75 +85,55 @@ std::string formatOptionValue(const OptionValue& value);
 // ---- implementation ----
 
 namespace detail {
+/// The OptionValue alternative that holds the value of a member of type T: T itself, except
+/// int -> std::int64_t and std::vector<int> -> std::vector<std::int64_t>.
 template <typename T>
-struct OptionTraits;
-template <>
-struct OptionTraits<bool> {
-    static constexpr OptionType type = OptionType::Bool;
-    static OptionValue wrap(bool v) { return v; }
+struct OptionStored {
+    using type = T;
 };
 template <>
-struct OptionTraits<int> {
-    static constexpr OptionType type = OptionType::Int;
-    static OptionValue wrap(int v) { return static_cast<std::int64_t>(v); }
+struct OptionStored<int> {
+    using type = std::int64_t;
 };
 template <>
-struct OptionTraits<std::int64_t> {
-    static constexpr OptionType type = OptionType::Int;
-    static OptionValue wrap(std::int64_t v) { return v; }
+struct OptionStored<std::vector<int>> {
+    using type = std::vector<std::int64_t>;
 };
-template <>
-struct OptionTraits<double> {
-    static constexpr OptionType type = OptionType::Double;
-    static OptionValue wrap(double v) { return v; }
-};
-template <>
-struct OptionTraits<std::string> {
-    static constexpr OptionType type = OptionType::String;
-    static OptionValue wrap(const std::string& v) { return v; }
-};
-template <>
-struct OptionTraits<std::vector<double>> {
-    static constexpr OptionType type = OptionType::DoubleList;
-    static OptionValue wrap(const std::vector<double>& v) { return v; }
-};
-template <>
-struct OptionTraits<std::vector<int>> {
-    static constexpr OptionType type = OptionType::IntList;
-    static OptionValue wrap(const std::vector<int>& v) {
-        return std::vector<std::int64_t>(v.begin(), v.end());
+
+/// Converts between a member's type and its stored type (a cast, or element-wise for lists).
+template <typename To, typename From>
+To convertOptionValue(const From& value) {
+    if constexpr (std::is_same_v<To, From>) {
+        return value;
+    } else if constexpr (std::is_arithmetic_v<From>) {
+        return static_cast<To>(value);
+    } else {
+        return To(value.begin(), value.end());
     }
-};
-template <>
-struct OptionTraits<std::vector<std::string>> {
-    static constexpr OptionType type = OptionType::StringList;
-    static OptionValue wrap(const std::vector<std::string>& v) { return v; }
-};
-template <typename T>
-constexpr OptionCxxType cxxTypeOf();
-template <> constexpr OptionCxxType cxxTypeOf<bool>() { return OptionCxxType::Bool; }
-template <> constexpr OptionCxxType cxxTypeOf<int>() { return OptionCxxType::Int; }
-template <> constexpr OptionCxxType cxxTypeOf<std::int64_t>() { return OptionCxxType::Int64; }
-template <> constexpr OptionCxxType cxxTypeOf<double>() { return OptionCxxType::Double; }
-template <> constexpr OptionCxxType cxxTypeOf<std::string>() { return OptionCxxType::String; }
-template <> constexpr OptionCxxType cxxTypeOf<std::vector<double>>() { return OptionCxxType::DoubleVec; }
-template <> constexpr OptionCxxType cxxTypeOf<std::vector<int>>() { return OptionCxxType::IntVec; }
-template <> constexpr OptionCxxType cxxTypeOf<std::vector<std::int64_t>>() { return OptionCxxType::Int64Vec; }
-template <> constexpr OptionCxxType cxxTypeOf<std::vector<std::string>>() { return OptionCxxType::StringVec; }
+}
 }  // namespace detail
 
 template <typename T>
-void OptionSpec::add(const std::string& key, const std::string& doc, T& member, T default_value,
-                     const std::string& unit) {
+OptionInfo OptionSpec::bind(const std::string& key, const std::string& doc, T& member,
+                            const T& default_value, bool required, const std::string& unit) {
+    static_assert(std::is_constructible_v<OptionTarget, T*>,
+                  "OptionSpec: unsupported option type (see OptionSpec::add)");
     OptionInfo info;
     info.key = key;
     info.doc = doc;
     info.unit = unit;
-    info.type = detail::OptionTraits<T>::type;
-    info.required = false;
-    info.default_value = detail::OptionTraits<T>::wrap(default_value);
+    info.required = required;
+    info.default_value =
+        detail::convertOptionValue<typename detail::OptionStored<T>::type>(default_value);
+    info.type = static_cast<OptionType>(info.default_value.index());
     info.target = &member;
-    info.cxx_type = detail::cxxTypeOf<T>();
+    return info;
+}
+
+template <typename T>
+void OptionSpec::add(const std::string& key, const std::string& doc, T& member, T default_value,
+                     const std::string& unit) {
+    OptionInfo info = bind(key, doc, member, default_value, false, unit);
     member = default_value;
     push(std::move(info));
 }
@@ -155,16 +141,7 @@ void OptionSpec::add(const std::string& key, const std::string& doc, T& member, 
 template <typename T>
 void OptionSpec::addRequired(const std::string& key, const std::string& doc, T& member,
                              const std::string& unit) {
-    OptionInfo info;
-    info.key = key;
-    info.doc = doc;
-    info.unit = unit;
-    info.type = detail::OptionTraits<T>::type;
-    info.required = true;
-    info.default_value = detail::OptionTraits<T>::wrap(T{});
-    info.target = &member;
-    info.cxx_type = detail::cxxTypeOf<T>();
-    push(std::move(info));
+    push(bind(key, doc, member, T{}, true, unit));
 }
 
 }  // namespace vdbmap
