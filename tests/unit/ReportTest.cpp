@@ -44,6 +44,24 @@ TEST_CASE("report counters add up across threads", "[report]") {
     CHECK_THROWS_AS(report.add({"counts", "text"}, 1), InvalidInput);
 }
 
+TEST_CASE("report builds objects from paths and lists from vectors, without JSON text", "[report]") {
+    Report report;
+    report.stage("semantic.mrf", "classes", std::vector<std::string>{});  // replaced below
+    report.set({"stages", "semantic.mrf", "classes"}, std::vector<std::string>{"road", "car"});
+    CHECK(report.getJson({"stages", "semantic.mrf", "classes"}) == R"(["road","car"])");
+    report.set({"stages", "texture.mrf", "vignetting_abc", "camera_0"},
+               std::vector<double>{0.5, -0.25, 0.0});
+    report.stage("x", "ids", std::vector<std::int64_t>{3, -1});
+    report.set({"per_class", "7", "name"}, "pole \"a\"");
+    report.set({"per_class", "7", "faces"}, std::size_t{4});
+    CHECK(report.getJson({"stages", "texture.mrf", "vignetting_abc", "camera_0"}) ==
+          "[0.5,-0.25,0.0]");
+    CHECK(report.getJson({"stages", "x", "ids"}) == "[3,-1]");
+    CHECK(report.getJson({"per_class", "7"}) == R"({"faces":4,"name":"pole \"a\""})");
+    // A list is a value: nothing can be set below it.
+    CHECK_THROWS_AS(report.set({"stages", "x", "ids", "0"}, 1), InvalidInput);
+}
+
 TEST_CASE("setJson takes JSON text and rejects invalid text", "[report]") {
     Report report;
     report.setJson({"config"}, R"({"stages": [1, 2]})");

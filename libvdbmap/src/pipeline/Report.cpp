@@ -58,6 +58,16 @@ void Report::set(const std::vector<std::string>& path, const std::string& value)
     impl_->set(path, value);
 }
 
+void Report::set(const std::vector<std::string>& path, const std::vector<double>& values) {
+    impl_->set(path, values);
+}
+void Report::set(const std::vector<std::string>& path, const std::vector<std::int64_t>& values) {
+    impl_->set(path, values);
+}
+void Report::set(const std::vector<std::string>& path, const std::vector<std::string>& values) {
+    impl_->set(path, values);
+}
+
 void Report::setJson(const std::vector<std::string>& path, const std::string& json_text) {
     nlohmann::json parsed = nlohmann::json::parse(json_text, nullptr, false);
     if (parsed.is_discarded()) {

@@ -10,8 +10,10 @@
 namespace vdbmap {
 
 /// The run report, written as report.json: versions, resolved config, counts, timings per
-/// stage, peak memory. Keys are dotted paths ("stages.integrate.atsdf.points_dropped" would
-/// split at every dot, so stages use `stage(name)` prefixes: see StageReport). Thread-safe.
+/// stage, peak memory. A value sits at a path given as a list of keys, never as one dotted
+/// string: a stage name such as "integrate.atsdf" stays one key (`stage(name, key, value)`
+/// sets stages.<name>.<key>). Objects are built by setting values at deeper paths, lists
+/// with the vector overloads; `setJson` takes ready JSON text. Thread-safe.
 class Report {
 public:
     Report();
@@ -33,6 +35,10 @@ public:
     void set(const std::vector<std::string>& path, const char* value) {
         set(path, std::string(value));
     }
+    /// Sets a list (a JSON array) of numbers or strings.
+    void set(const std::vector<std::string>& path, const std::vector<double>& values);
+    void set(const std::vector<std::string>& path, const std::vector<std::int64_t>& values);
+    void set(const std::vector<std::string>& path, const std::vector<std::string>& values);
     /// Sets a JSON value given as text (an object, an array...). Throws InvalidInput if the
     /// text is not valid JSON.
     void setJson(const std::vector<std::string>& path, const std::string& json_text);
