@@ -36,7 +36,7 @@ openvdb::FloatGrid::Ptr labelGrid(const TriMesh& mesh, const std::vector<std::ui
     if (!grid) grid = openvdb::FloatGrid::create();
     grid->tree().root().setBackground(static_cast<float>(kUnknownLabel), true);
     grid->setTransform(transform.copy());
-    grid->setName("label");
+    grid->setName(grids::kLabel);
     grid->setGridClass(openvdb::GRID_UNKNOWN);
     if (mesh.n_faces() == 0) return grid;
 

@@ -220,7 +220,7 @@ void SemanticMrfStage::run(Context& ctx) {
     if (label_grid_) {
         if (!ctx.hasMap()) fail("option 'label_grid' needs a map (an integrate stage before)");
         VoxelMap& map = ctx.map();
-        ctx.map().setExtraGrid("label", labelGrid(mesh, result.face_labels, *map.transform(),
+        ctx.map().setExtraGrid(grids::kLabel, labelGrid(mesh, result.face_labels, *map.transform(),
                                                   static_cast<float>(label_grid_band_vox_)));
     }
     const double t_export = step.elapsedSeconds();

@@ -188,8 +188,8 @@ void TextureMrfStage::run(Context& ctx) {
 
     // The "texture" layer: the chosen view per face on the shared mesh.
     OpenMesh::FPropHandleT<int> view_prop;
-    if (!tri_mesh.get_property_handle(view_prop, "texture_view")) {
-        tri_mesh.add_property(view_prop, "texture_view");
+    if (!tri_mesh.get_property_handle(view_prop, kFaceTextureViewProperty)) {
+        tri_mesh.add_property(view_prop, kFaceTextureViewProperty);
     }
     for (const auto fh : tri_mesh.faces()) {
         const std::uint32_t v = result.face_view[static_cast<std::size_t>(fh.idx())];

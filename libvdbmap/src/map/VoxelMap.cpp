@@ -12,6 +12,7 @@
 
 #include "vdbmap/Error.h"
 #include "vdbmap/map/BlockStats.h"
+#include "vdbmap/map/Layers.h"
 
 namespace vdbmap {
 
@@ -75,7 +76,7 @@ VoxelMap::VoxelMap(double voxel_size_m, float sdf_range_m, float weight_range)
     transform_ = openvdb::math::Transform::createLinearTransform(voxel_size_m);
     tsdf_ = TsdfGrid::create(codec_.background());
     tsdf_->setTransform(transform_);
-    tsdf_->setName("tsdf");
+    tsdf_->setName(grids::kTsdf);
     compact_ = std::make_unique<CompactTsdf>();
     block_stats_ = std::make_unique<BlockStatsGrid>();
 }
@@ -188,7 +189,7 @@ openvdb::FloatGrid::Ptr VoxelMap::surfaceGrid() const {
     auto grid = decodedGrid(*this, codec_.sdfRange(), [&](const TsdfLeafView& packed, auto& leaf) {
         for (auto it = leaf.beginValueOn(); it; ++it) it.setValue(codec_.sdf(packed.value(it.pos())));
     });
-    grid->setName("surface");
+    grid->setName(grids::kSurface);
     grid->setGridClass(openvdb::GRID_LEVEL_SET);
     return grid;
 }
@@ -197,7 +198,7 @@ openvdb::FloatGrid::Ptr VoxelMap::weightGrid() const {
     auto grid = decodedGrid(*this, 0.0f, [&](const TsdfLeafView& packed, auto& leaf) {
         for (auto it = leaf.beginValueOn(); it; ++it) it.setValue(codec_.weight(packed.value(it.pos())));
     });
-    grid->setName("weight");
+    grid->setName(grids::kWeight);
     return grid;
 }
 
@@ -207,14 +208,15 @@ openvdb::FloatGrid::Ptr VoxelMap::truncationGrid(float no_block_m) const {
         const float eps = slot >= 0 ? block_stats_->entry(slot).truncation_m : no_block_m;
         for (auto it = leaf.beginValueOn(); it; ++it) it.setValue(eps);
     });
-    grid->setName("truncation");
+    grid->setName(grids::kTruncation);
     grid->setGridClass(openvdb::GRID_FOG_VOLUME);
     return grid;
 }
 
 void VoxelMap::setExtraGrid(const std::string& name, openvdb::GridBase::Ptr grid) {
     if (!grid) throw InvalidInput("VoxelMap::setExtraGrid: null grid '" + name + "'");
-    if (name.empty() || name == "surface" || name == "weight" || name == "truncation") {
+    if (name.empty() || name == grids::kSurface || name == grids::kWeight ||
+        name == grids::kTruncation) {
         throw InvalidInput("VoxelMap::setExtraGrid: reserved or empty grid name '" + name + "'");
     }
     grid->setName(name);

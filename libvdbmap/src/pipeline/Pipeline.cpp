@@ -15,6 +15,7 @@
 #include "vdbmap/Error.h"
 #include "vdbmap/pipeline/StageRegistry.h"
 #include "vdbmap/plugin/PluginLoader.h"
+#include "vdbmap/map/Layers.h"
 
 namespace vdbmap {
 namespace fs = std::filesystem;
@@ -271,7 +272,7 @@ std::unique_ptr<Pipeline> Pipeline::fromString(const std::string& yaml_text,
     // Without an opened dataset, assume it provides every dataset layer; run() checks again
     // with what the dataset really has.
     std::vector<std::string> dataset_layers;
-    if (p.has_dataset) dataset_layers = {"scans", "images", "semantic_images"};
+    if (p.has_dataset) dataset_layers = {layers::kScans, layers::kImages, layers::kSemanticImages};
     pipeline->checkLayers(dataset_layers);
     return pipeline;
 }

@@ -10,6 +10,7 @@
 #include "vdbmap/core/Timer.h"
 #include "vdbmap/pipeline/Context.h"
 #include "vdbmap/pipeline/Report.h"
+#include "vdbmap/map/Layers.h"
 
 namespace vdbmap {
 namespace fs = std::filesystem;
@@ -36,15 +37,15 @@ std::string formatSeconds(double s) {
 namespace detail {
 
 std::vector<std::string> datasetLayers(const Dataset& dataset) {
-    std::vector<std::string> layers{"scans"};
+    std::vector<std::string> layers{layers::kScans};
     if (dataset.cameras().empty()) return layers;
-    layers.emplace_back("images");
+    layers.emplace_back(layers::kImages);
     // Semantic images are optional per camera: probe the first frames.
     const std::size_t probe = std::min<std::size_t>(dataset.numFrames(), 5);
     for (std::size_t i = 0; i < probe; ++i) {
         for (std::size_t cam = 0; cam < dataset.cameras().size(); ++cam) {
             if (dataset.semanticPath(i, cam)) {
-                layers.emplace_back("semantic_images");
+                layers.emplace_back(layers::kSemanticImages);
                 return layers;
             }
         }

@@ -22,9 +22,28 @@ inline constexpr const char* kScans = "scans";
 
 }  // namespace vdbmap::layers
 
+/// Names of the grids in map.vdb (VoxelMap, VdbIO). Further names come from
+/// VoxelMap::setExtraGrid.
+namespace vdbmap::grids {
+
+/// The packed TSDF grid of a VoxelMap while it is integrated (not written to map.vdb).
+inline constexpr const char* kTsdf = "tsdf";
+/// Signed distance (m), level set class.
+inline constexpr const char* kSurface = "surface";
+/// Accumulated weight of each voxel.
+inline constexpr const char* kWeight = "weight";
+/// Truncation eps (m) of each voxel's 8^3 block.
+inline constexpr const char* kTruncation = "truncation";
+/// Class id of each voxel (semantic plugin, optional).
+inline constexpr const char* kLabel = "label";
+
+}  // namespace vdbmap::grids
+
 namespace vdbmap {
 /// OpenMesh face property (uint8_t) that holds the class id of each face; 255 = unknown.
 inline constexpr const char* kFaceLabelProperty = "label";
+/// OpenMesh face property (int) that holds the view chosen to texture each face; -1 = none.
+inline constexpr const char* kFaceTextureViewProperty = "texture_view";
 /// Class id for void / unknown (DATA.md).
 inline constexpr unsigned char kUnknownLabel = 255;
 }  // namespace vdbmap
