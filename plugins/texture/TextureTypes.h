@@ -8,19 +8,16 @@
 #include <vector>
 
 #include "vdbmap/core/Types.h"
+#include "vdbmap/mesh/MeshArrays.h"
 #include "vdbmap/mesh/TriMesh.h"
 
 namespace vdbmap::texture {
 
 /// A triangle mesh as plain arrays (world frame W, metres): what the texturing algorithms use,
-/// so that they run and test without OpenMesh or a pipeline.
-struct MeshArrays {
-    std::vector<Vec3f> vertices_W;
-    std::vector<std::array<std::uint32_t, 3>> faces;
-};
-
-/// Copies the vertices and triangles of a TriMesh (face i of the result is face idx i).
-MeshArrays meshArrays(const TriMesh& mesh);
+/// so that they run and test without OpenMesh or a pipeline. `vdbmap::meshArrays(mesh)`
+/// makes one from a TriMesh.
+using MeshArrays = vdbmap::MeshArrays;
+using vdbmap::meshArrays;
 
 /// Returns the 8-bit BGR colour image of view `view` (the index into the views vector). Must be
 /// thread-safe: the texturing passes call it from TBB tasks, one image per task.

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "vdbmap/Error.h"
+#include "vdbmap/mesh/MeshArrays.h"
 
 namespace vdbmap {
 
@@ -144,31 +145,9 @@ Raycaster::Raycaster(const std::vector<Vec3f>& vertices,
 }
 
 Raycaster Raycaster::fromMesh(const TriMesh& mesh) {
-    std::vector<Vec3f> vertices;
-    vertices.reserve(mesh.n_vertices());
-    for (const auto vh : mesh.vertices()) {
-        const auto& p = mesh.point(vh);
-        vertices.emplace_back(p[0], p[1], p[2]);
-    }
-    std::vector<std::array<std::uint32_t, 3>> triangles;
-    triangles.reserve(mesh.n_faces());
-    // Face index = triangle index, also for deleted faces (kept, collapsed to vertex 0 of the
-    // face, so they are never hit).
-    for (const auto fh : mesh.all_faces()) {
-        std::array<std::uint32_t, 3> tri{0, 0, 0};
-        int k = 0;
-        for (const auto fv : mesh.fv_range(fh)) {
-            if (k < 3) tri[k] = static_cast<std::uint32_t>(fv.idx());
-            ++k;
-        }
-        if (k != 3) {
-            throw InvalidInput("Raycaster::fromMesh: face " + std::to_string(fh.idx()) + " has " +
-                               std::to_string(k) + " vertices, expected a triangle");
-        }
-        if (mesh.has_face_status() && mesh.status(fh).deleted()) tri[1] = tri[2] = tri[0];
-        triangles.push_back(tri);
-    }
-    return Raycaster(vertices, triangles);
+    // Face index = triangle index, also for deleted faces (collapsed, so never hit).
+    const MeshArrays arrays = meshArrays(mesh, DeletedFaces::Collapse);
+    return Raycaster(arrays.vertices_W, arrays.faces);
 }
 
 Raycaster::~Raycaster() = default;

@@ -13,6 +13,7 @@
 #include "vdbmap/Error.h"
 #include "vdbmap/core/Progress.h"
 #include "vdbmap/io/Dataset.h"
+#include "vdbmap/mesh/MeshArrays.h"
 #include "vdbmap/render/Raycaster.h"
 
 namespace vdbmap {
@@ -27,7 +28,9 @@ struct FaceGeometry {
 };
 
 FaceGeometry faceGeometry(const TriMesh& mesh) {
-    const std::size_t num_faces = mesh.n_faces();
+    // Face f = triangle f; a deleted face is collapsed, so it gets a zero normal.
+    const MeshArrays arrays = meshArrays(mesh, DeletedFaces::Collapse);
+    const std::size_t num_faces = arrays.faces.size();
     FaceGeometry g;
     g.corners_W.resize(num_faces);
     g.centroid_W.resize(num_faces);
@@ -35,17 +38,9 @@ FaceGeometry faceGeometry(const TriMesh& mesh) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, num_faces, 4096),
                       [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t f = r.begin(); f != r.end(); ++f) {
-            const TriMesh::FaceHandle fh(static_cast<int>(f));
-            int k = 0;
-            for (const auto vh : mesh.fv_range(fh)) {
-                if (k == 3) break;
-                const auto& p = mesh.point(vh);
-                g.corners_W[f][k++] = Vec3f(p[0], p[1], p[2]);
-            }
-            if (k != 3) continue;
-            const auto& c = g.corners_W[f];
+            auto& c = g.corners_W[f];
+            for (int k = 0; k < 3; ++k) c[k] = arrays.vertices_W[arrays.faces[f][k]];
             g.centroid_W[f] = (c[0] + c[1] + c[2]) / 3.0f;
-            if (mesh.has_face_status() && mesh.status(fh).deleted()) continue;
             const Vec3f n = (c[1] - c[0]).cross(c[2] - c[0]);
             const float len = n.norm();
             if (len > 0.0f && std::isfinite(len)) g.normal_W[f] = n / len;

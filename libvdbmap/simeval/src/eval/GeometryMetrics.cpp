@@ -10,6 +10,7 @@
 #include <random>
 
 #include "vdbmap/Error.h"
+#include "vdbmap/mesh/MeshArrays.h"
 #include "vdbmap/render/Raycaster.h"
 
 namespace vdbmap {
@@ -40,29 +41,10 @@ double triangleArea(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
 void triMeshArrays(const TriMesh& mesh, std::vector<Vec3f>& vertices,
                    std::vector<std::array<std::uint32_t, 3>>& triangles,
                    std::vector<std::uint32_t>* face_index) {
-    vertices.clear();
-    triangles.clear();
-    if (face_index) face_index->clear();
-    vertices.reserve(mesh.n_vertices());
-    for (const auto vh : mesh.all_vertices()) {
-        const auto& p = mesh.point(vh);
-        vertices.emplace_back(p[0], p[1], p[2]);
-    }
-    for (const auto fh : mesh.all_faces()) {
-        if (mesh.has_face_status() && mesh.status(fh).deleted()) continue;
-        std::array<std::uint32_t, 3> tri{0, 0, 0};
-        int k = 0;
-        for (const auto fv : mesh.fv_range(fh)) {
-            if (k < 3) tri[k] = static_cast<std::uint32_t>(fv.idx());
-            ++k;
-        }
-        if (k != 3) {
-            throw InvalidInput("mesh face " + std::to_string(fh.idx()) + " has " +
-                               std::to_string(k) + " vertices, expected a triangle");
-        }
-        triangles.push_back(tri);
-        if (face_index) face_index->push_back(static_cast<std::uint32_t>(fh.idx()));
-    }
+    MeshArrays arrays = meshArrays(mesh, DeletedFaces::Skip);
+    vertices = std::move(arrays.vertices_W);
+    triangles = std::move(arrays.faces);
+    if (face_index) *face_index = std::move(arrays.face_index);
 }
 
 DistanceStats distanceStats(std::vector<float> d) {
