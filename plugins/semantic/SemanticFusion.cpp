@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <string>
 
 #include "vdbmap/Error.h"
@@ -33,13 +32,10 @@ MrfProblem fusionProblem(const FaceVotes& votes,
     // without data the Potts optimum only uses border classes (relabelling a non-border class
     // to a neighbouring one never lengthens the cut), so those are the only candidates needed:
     // this keeps every expansion move small.
-    std::vector<std::uint32_t> region(num_faces);
-    std::iota(region.begin(), region.end(), 0u);
+    std::vector<std::uint32_t> region = makeDisjointSets(num_faces);
     for (const auto& e : adjacency) {
         if (votes.observed(e[0]) || votes.observed(e[1])) continue;
-        const std::uint32_t a = findRoot(region, e[0]);
-        const std::uint32_t b = findRoot(region, e[1]);
-        if (a != b) region[std::max(a, b)] = std::min(a, b);
+        uniteSets(region, e[0], e[1]);
     }
     std::vector<std::pair<std::uint32_t, std::uint32_t>> border;  // (region root, class)
     for (const auto& e : adjacency) {
@@ -126,13 +122,8 @@ FusionResult fuseLabels(const FaceVotes& votes,
     result.sweeps = solution.sweeps;
 
     // Components without any observed face have nothing to take a class from.
-    std::vector<std::uint32_t> parent(num_faces);
-    std::iota(parent.begin(), parent.end(), 0u);
-    for (const auto& e : adjacency) {
-        const std::uint32_t a = findRoot(parent, e[0]);
-        const std::uint32_t b = findRoot(parent, e[1]);
-        if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    }
+    std::vector<std::uint32_t> parent = makeDisjointSets(num_faces);
+    for (const auto& e : adjacency) uniteSets(parent, e[0], e[1]);
     std::vector<char> root_observed(num_faces, 0);
     for (std::size_t f = 0; f < num_faces; ++f) {
         if (votes.observed(f)) root_observed[findRoot(parent, static_cast<std::uint32_t>(f))] = 1;

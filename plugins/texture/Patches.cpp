@@ -1,8 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "Patches.h"
 
-#include <numeric>
-
 #include "vdbmap/Error.h"
 #include "vdbmap/mrf/PottsMrf.h"
 #include "vdbmap/core/UnionFind.h"
@@ -13,21 +11,15 @@ std::vector<Patch> buildPatches(const std::vector<std::uint32_t>& face_labels,
                                 const std::vector<std::array<std::uint32_t, 2>>& adjacency,
                                 std::vector<std::uint32_t>* face_patch) {
     const std::size_t num_faces = face_labels.size();
-    std::vector<std::uint32_t> parent(num_faces);
-    std::iota(parent.begin(), parent.end(), 0u);
+    std::vector<std::uint32_t> parent = makeDisjointSets(num_faces);
     for (const auto& [a, b] : adjacency) {
         if (a >= num_faces || b >= num_faces) {
             throw InvalidInput("texture: adjacency refers to face " +
                                std::to_string(std::max(a, b)) + " of " + std::to_string(num_faces));
         }
         if (face_labels[a] == kNoLabel || face_labels[a] != face_labels[b]) continue;
-        const std::uint32_t ra = findRoot(parent, a), rb = findRoot(parent, b);
         // The smaller index becomes the root, so roots are the smallest face of each patch.
-        if (ra < rb) {
-            parent[rb] = ra;
-        } else if (rb < ra) {
-            parent[ra] = rb;
-        }
+        uniteSets(parent, a, b);
     }
     std::vector<Patch> patches;
     std::vector<std::uint32_t> patch_of_root(num_faces, kNoLabel);

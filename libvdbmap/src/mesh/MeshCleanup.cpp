@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "vdbmap/mesh/MeshCleanup.h"
 
-#include <numeric>
 #include "vdbmap/core/UnionFind.h"
 
 namespace vdbmap {
@@ -11,14 +10,10 @@ std::size_t removeSmallComponents(std::vector<std::array<std::uint32_t, 3>>& fac
     if (faces_removed) *faces_removed = 0;
     if (min_faces <= 1 || faces.empty()) return 0;
     // Union-find over vertices: faces that share a vertex are in one component.
-    std::vector<std::uint32_t> parent(num_vertices);
-    std::iota(parent.begin(), parent.end(), 0u);
+    std::vector<std::uint32_t> parent = makeDisjointSets(num_vertices);
     for (const auto& f : faces) {
-        const std::uint32_t r0 = findRoot(parent, f[0]);
-        for (int k = 1; k < 3; ++k) {
-            const std::uint32_t rk = findRoot(parent, f[static_cast<std::size_t>(k)]);
-            if (rk != r0) parent[rk] = r0;
-        }
+        uniteSets(parent, f[0], f[1]);
+        uniteSets(parent, f[0], f[2]);
     }
     std::vector<std::uint32_t> face_count(num_vertices, 0);
     for (const auto& f : faces) ++face_count[findRoot(parent, f[0])];

@@ -71,14 +71,11 @@ struct Components {
 
 Components findComponents(const MrfProblem& problem, const Adjacency& adj) {
     const std::size_t n = problem.num_nodes;
-    std::vector<std::uint32_t> parent(n);
-    std::iota(parent.begin(), parent.end(), 0u);
+    // uniteSets keeps the smaller id as the root: the root is the component's smallest node.
+    std::vector<std::uint32_t> parent = makeDisjointSets(n);
     for (std::size_t i = 0; i < n; ++i) {
         for (std::uint64_t k = adj.offsets[i]; k < adj.offsets[i + 1]; ++k) {
-            const std::uint32_t a = findRoot(parent, static_cast<std::uint32_t>(i));
-            const std::uint32_t b = findRoot(parent, adj.neighbours[k]);
-            // The smaller id becomes the root, so the root is the component's smallest node.
-            if (a != b) parent[std::max(a, b)] = std::min(a, b);
+            uniteSets(parent, static_cast<std::uint32_t>(i), adj.neighbours[k]);
         }
     }
     std::vector<std::uint32_t> comp_of(n);
