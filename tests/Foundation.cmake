@@ -30,3 +30,12 @@ if(VDBMAP_BUILD_APPS)
                 ${PROJECT_BINARY_DIR} ${PROJECT_SOURCE_DIR} ${CMAKE_COMMAND})
     set_tests_properties(install_and_plugin_template PROPERTIES TIMEOUT 300 LABELS "install")
 endif()
+
+# The installed headers (libvdbmap/CMakeLists.txt) are closed under #include and cover what
+# the in-tree plugins and the plugin template include.
+string(REPLACE ";" "," _vdbmap_installed_headers "${VDBMAP_INSTALLED_HEADERS}")
+add_test(NAME installed_headers_closed
+    COMMAND ${CMAKE_COMMAND} -DINCLUDE_DIR=${PROJECT_SOURCE_DIR}/libvdbmap/include
+            -DINSTALLED=${_vdbmap_installed_headers}
+            -DPLUGIN_DIRS=${PROJECT_SOURCE_DIR}/plugins,${PROJECT_SOURCE_DIR}/examples/plugin_template
+            -P ${CMAKE_CURRENT_SOURCE_DIR}/scripts/check_installed_headers.cmake)
