@@ -13,14 +13,27 @@ foreach(test_target CliTest InfoCommandTest)
         add_dependencies(${test_target} vdbmap_app)
     endif()
 endforeach()
-# StageRegistryTest and ConfigFilesTest also load the in-tree plugins when they are built.
-foreach(test_target StageRegistryTest ConfigFilesTest)
-    foreach(plugin texture semantic)
-        if(TARGET ${test_target} AND TARGET vdbmap_plugin_${plugin})
-            add_dependencies(${test_target} vdbmap_plugin_${plugin})
-        endif()
-    endforeach()
+# StageRegistryTest and ConfigFilesTest load every in-tree plugin this build has, and fail
+# when one of them does not load (support/BuiltPlugins.h).
+set(_vdbmap_built_plugins "")
+foreach(plugin texture semantic cgal)
+    if(TARGET vdbmap_plugin_${plugin})
+        list(APPEND _vdbmap_built_plugins ${plugin})
+    endif()
 endforeach()
+string(REPLACE ";" "," _vdbmap_built_plugins_csv "${_vdbmap_built_plugins}")
+foreach(test_target StageRegistryTest ConfigFilesTest)
+    if(TARGET ${test_target})
+        target_compile_definitions(${test_target} PRIVATE
+            VDBMAP_BUILT_PLUGINS="${_vdbmap_built_plugins_csv}")
+        foreach(plugin ${_vdbmap_built_plugins})
+            add_dependencies(${test_target} vdbmap_plugin_${plugin})
+        endforeach()
+    endif()
+endforeach()
+if(TARGET ConfigFilesTest)
+    target_link_libraries(ConfigFilesTest PRIVATE yaml-cpp)
+endif()
 
 # Installs the build into a scratch prefix, builds examples/plugin_template against the
 # installed package with find_package(vdbmap CONFIG REQUIRED), and runs it via `vdbmap run`.
