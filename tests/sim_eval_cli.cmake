@@ -2,14 +2,16 @@
 # Command-line tests of vdbmap-sim and `vdbmap eval`: a tiny street sequence, the ground truth
 # scored against itself (F = 1), and clean failures on bad input.
 if(TARGET vdbmap_sim AND TARGET vdbmap_app)
+    # A failure test passes only on the exact exit code and message (never on a crash).
+    set(_expect_exit ${CMAKE_CURRENT_SOURCE_DIR}/scripts/expect_exit.sh)
     set(_seq ${CMAKE_CURRENT_BINARY_DIR}/sim_eval_cli/seq)
     set(_run ${CMAKE_CURRENT_BINARY_DIR}/sim_eval_cli/run)
     add_test(NAME sim_cli_street_tiny
         COMMAND $<TARGET_FILE:vdbmap_sim> street -o ${_seq} --frames 2 --size 20 --no-images
                 --gt-views 0 --quiet --threads 1)
     add_test(NAME sim_cli_rejects_unknown_scene
-        COMMAND $<TARGET_FILE:vdbmap_sim> forest -o ${_seq}_bad)
-    set_tests_properties(sim_cli_rejects_unknown_scene PROPERTIES WILL_FAIL TRUE)
+        COMMAND bash ${_expect_exit} 2 "scene: forest not in {street,suv}"
+                $<TARGET_FILE:vdbmap_sim> forest -o ${_seq}_bad)
     add_test(NAME eval_cli_gt_against_itself
         COMMAND sh -c "mkdir -p '${_run}' && cp '${_seq}/gt/mesh.ply' '${_run}/mesh.ply' && \
 '$<TARGET_FILE:vdbmap_app>' eval --gt '${_seq}/gt' --run '${_run}' --json '${_run}/eval.json' \
@@ -39,13 +41,14 @@ grep -q '\"frames\": 2' '${_rig_run}/a.json' && \
 grep -q '\"frames\": 1' '${_rig_run}/b.json'")
     set_tests_properties(eval_cli_rig_camera_seen PROPERTIES DEPENDS sim_cli_rig_tiny)
     add_test(NAME eval_cli_rig_bad_set_fails
-        COMMAND $<TARGET_FILE:vdbmap_app> eval --gt ${_rig}/gt --run ${_rig_run}
+        COMMAND bash ${_expect_exit} 2
+                "--set dataset.no_such_key=1: dataset: unknown key 'no_such_key'; valid keys: format,"
+                $<TARGET_FILE:vdbmap_app> eval --gt ${_rig}/gt --run ${_rig_run}
                 --dataset ${_rig}/dataset.yaml --set dataset.no_such_key=1)
-    set_tests_properties(eval_cli_rig_bad_set_fails PROPERTIES
-                         PASS_REGULAR_EXPRESSION "unknown key 'no_such_key'"
-                         DEPENDS eval_cli_rig_camera_seen)
+    set_tests_properties(eval_cli_rig_bad_set_fails PROPERTIES DEPENDS eval_cli_rig_camera_seen)
     add_test(NAME eval_cli_missing_run_fails
-        COMMAND $<TARGET_FILE:vdbmap_app> eval --gt ${_seq}/gt --run ${_run}_missing)
-    set_tests_properties(eval_cli_missing_run_fails PROPERTIES WILL_FAIL TRUE
-                         DEPENDS sim_cli_street_tiny)
+        COMMAND bash ${_expect_exit} 1
+                "vdbmap eval: --run ${_run}_missing: not a folder"
+                $<TARGET_FILE:vdbmap_app> eval --gt ${_seq}/gt --run ${_run}_missing)
+    set_tests_properties(eval_cli_missing_run_fails PROPERTIES DEPENDS sim_cli_street_tiny)
 endif()

@@ -92,7 +92,13 @@ int main(int argc, char** argv) {
                    "$VDBMAP_DATA_DIR/meshes, <prefix>/share/vdbmap/meshes, tests/data/meshes)");
     app.add_option("--threads", threads, "Worker threads (0 = all cores)");
     app.add_flag("-q,--quiet", options.quiet, "No progress and no info messages");
-    CLI11_PARSE(app, argc, argv);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        // --help prints and exits 0; a bad command line is a usage error, exit 2 (like vdbmap).
+        const int code = app.exit(e);
+        return code == 0 ? 0 : 2;
+    }
     options.images = !no_images;
     if (options.quiet) vdbmap::setLogLevel(vdbmap::LogLevel::Warn);
     const std::size_t n_threads =
