@@ -218,10 +218,8 @@ void TextureMrfStage::run(Context& ctx) {
     report.stage(stage, "global_adjustment_max_abs", s.leveling_summary.max_abs_correction);
     for (std::size_t c = 0; c < s.vignetting_used.size(); ++c) {
         const auto& p = s.vignetting_used[c];
-        std::ostringstream json;
-        json << "[" << p.a << ", " << p.b << ", " << p.c << "]";
-        report.setJson({"stages", stage, "vignetting_abc", "camera_" + std::to_string(c)},
-                       json.str());
+        report.set({"stages", stage, "vignetting_abc", "camera_" + std::to_string(c)},
+                   std::vector<double>{p.a, p.b, p.c});
     }
     for (const auto& [step_name, seconds] : s.timings_s) {
         report.set({"stages", stage, "timings_s", step_name}, seconds);
