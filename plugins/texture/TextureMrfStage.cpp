@@ -16,6 +16,7 @@
 #include "vdbmap/pipeline/Report.h"
 #include "vdbmap/render/Raycaster.h"
 #include "vdbmap/render/Visibility.h"
+#include "vdbmap/render/VisibilitySetup.h"
 
 namespace vdbmap::texture {
 
@@ -56,8 +57,9 @@ void TextureMrfStage::declareOptions(OptionSpec& spec) {
     spec.add("occlusion_test", "Test occlusion by the mesh itself (Embree BVH)", occlusion_test_,
              true);
     spec.add("fill",
-             "Faces no view saw: 'neighbour' (colour of the nearest textured face) or 'grey'",
-             fill_, std::string("neighbour"));
+             "Faces no view saw: 'smooth' (colours diffused from the textured border, a sparse "
+             "Laplace solve), 'neighbour' (colour of the nearest textured face) or 'grey'",
+             fill_, std::string("smooth"));
     spec.add("output_subdir", "Folder below the output folder for mesh.obj/.mtl and atlases",
              output_subdir_, std::string("textured"));
 }
@@ -103,8 +105,8 @@ void TextureMrfStage::initialize() {
                    std::to_string(seam_smoothness_));
     }
     if (output_subdir_.empty()) failConfig("option 'output_subdir' must not be empty");
-    if (fill_ != "neighbour" && fill_ != "grey") {
-        failConfig("option 'fill' must be 'neighbour' or 'grey', got '" + fill_ + "'");
+    if (fill_ != "smooth" && fill_ != "neighbour" && fill_ != "grey") {
+        failConfig("option 'fill' must be 'smooth', 'neighbour' or 'grey', got '" + fill_ + "'");
     }
 }
 
@@ -151,7 +153,8 @@ void TextureMrfStage::run(Context& ctx) {
     options.padding_px = padding_px_;
     options.atlas_max_size_px = atlas_max_size_px_;
     options.quiet = ctx.quiet();
-    options.fill_from_neighbours = fill_ == "neighbour";
+    options.fill_from_neighbours = fill_ == "neighbour" || fill_ == "smooth";
+    options.smooth_fill = fill_ == "smooth";
 
     const MeshArrays mesh = meshArrays(tri_mesh);
     if (mesh.faces.empty()) fail("the mesh has no faces: nothing to texture");
@@ -164,9 +167,8 @@ void TextureMrfStage::run(Context& ctx) {
     vis_options.min_depth_m = min_depth_m_;
     vis_options.max_depth_m = max_depth_m_;
     vis_options.occlusion_test = occlusion_test_;
-    const Raycaster raycaster = Raycaster::fromMesh(tri_mesh);
     const Visibility vis =
-        computeVisibility(tri_mesh, views, vis_options, occlusion_test_ ? &raycaster : nullptr);
+        meshVisibility(tri_mesh, views, vis_options, stage + " visibility", ctx.quiet());
     const auto adjacency = faceAdjacency(tri_mesh);
     const double visibility_s = step.elapsedSeconds();
     report.set({"stages", stage, "timings_s", "visibility"}, visibility_s);
@@ -202,7 +204,9 @@ void TextureMrfStage::run(Context& ctx) {
     report.stage(stage, "observations", s.observations);
     report.stage(stage, "faces_untextured", s.faces_untextured);
     report.stage(stage, "untextured_fill",
-                 fill_ == "neighbour"
+                 fill_ == "smooth"
+                     ? std::string("harmonic fill from the textured border (16 levels per channel)")
+                 : fill_ == "neighbour"
                      ? std::string("colour of the nearest textured face (16 levels per channel)")
                      : std::string("grey (128, 128, 128)"));
     report.stage(stage, "photo_rejected_observations", s.photo_rejected);

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "TexturePipeline.h"
+#include "SmoothFill.h"
 
 #include <tbb/parallel_for.h>
 
@@ -157,7 +158,8 @@ std::vector<VignettingEstimate> estimateFromImages(
     return estimateVignetting(samples, view_camera, num_cameras);
 }
 
-/// Colours of the faces no view saw. Fill "neighbour": the mean colour (in its chosen view) of
+/// Colours of the faces no view saw. Fill "smooth" (smooth_fill): the harmonic fill of the
+/// textured faces' mean colours (harmonicFill). Fill "neighbour": the mean colour (in its chosen view) of
 /// the nearest textured face through the face adjacency (breadth-first), quantised to 16 levels
 /// per channel so that a palette of at most 4096 cells holds them; faces with no textured face
 /// in their component, and every face under fill "grey", get fill_bgr. Returns the palette and
@@ -188,7 +190,13 @@ std::vector<Vec3f> fillPalette(const std::vector<std::uint32_t>& face_view,
     std::vector<Vec3f> color(face_color);
     std::vector<char> known(n, 0);
     std::deque<std::uint32_t> frontier;
-    if (options.fill_from_neighbours) {
+    if (options.fill_from_neighbours && options.smooth_fill) {
+        // Harmonic fill: colours diffused from the textured border (SmoothFill.h).
+        for (std::uint32_t f = 0; f < n; ++f) known[f] = face_view[f] != kNoLabel;
+        std::vector<char> filled;
+        color = harmonicFill(known, face_color, adjacency, filled);
+        for (std::uint32_t f = 0; f < n; ++f) known[f] = known[f] || filled[f];
+    } else if (options.fill_from_neighbours) {
         for (std::uint32_t f = 0; f < n; ++f) {
             if (face_view[f] != kNoLabel) {
                 known[f] = 1;

@@ -1,0 +1,70 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "SemanticVotes.h"
+#include "vdbmap/core/Types.h"
+
+namespace vdbmap::semantic {
+
+/// Faces binned in a uniform grid of cubic cells (a face goes into every cell its bounding
+/// box touches), for "all faces within r of a point" queries.
+class FaceGrid {
+public:
+    FaceGrid(const std::vector<Vec3f>& vertices,
+             const std::vector<std::array<std::uint32_t, 3>>& triangles, float cell_m);
+    /// Appends to `faces` (cleared first) every face whose closest point lies within `radius_m`
+    /// of `p`, with that distance, ascending by face index.
+    void facesWithin(const Vec3f& p, float radius_m, std::vector<std::uint32_t>& faces,
+                     std::vector<float>& distances_m) const;
+    std::size_t numFaces() const { return triangles_.size(); }
+
+private:
+    std::uint64_t key(std::int64_t x, std::int64_t y, std::int64_t z) const;
+    const std::vector<Vec3f>& vertices_;
+    const std::vector<std::array<std::uint32_t, 3>>& triangles_;
+    float cell_m_;
+    std::vector<std::uint64_t> cell_keys_;   // sorted, unique
+    std::vector<std::uint64_t> cell_offsets_;  // size cell_keys_+1
+    std::vector<std::uint32_t> cell_faces_;
+};
+
+/// Exact distance from `p` to the triangle (a, b, c) (Ericson, Real-Time Collision Detection,
+/// 5.1.5).
+float pointTriangleDistance(const Vec3f& p, const Vec3f& a, const Vec3f& b, const Vec3f& c);
+
+/// LiDAR votes of labelled points for the faces near them, accumulated scan by scan:
+/// a point p of class c adds w(d) = 1 - (d / r)^2 to S_L(F_i, c) of every face F_i whose
+/// distance d to p is below r = radius_m. The points of a scan are first merged per
+/// (cell of r/2, class) into their mean with their count as weight, so that the dense rings
+/// near the sensor do not cost more than they tell. Deterministic (does not depend on the
+/// thread count).
+class LidarVoteAccumulator {
+public:
+    LidarVoteAccumulator(const std::vector<Vec3f>& vertices,
+                         const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                         std::size_t num_classes, float radius_m);
+    /// Points in the world frame with their class index (into the label set; kNoClass =
+    /// void, does not vote). Throws InvalidInput on a size mismatch or a class out of range.
+    void add(const std::vector<Vec3f>& points_W, const std::vector<std::uint32_t>& classes);
+    /// The accumulated votes (weights = sum of w(d)); `votes` counts the points that reached
+    /// a face, `void_votes` the void points.
+    FaceVotes finish() const;
+    std::size_t pointsWithoutFace() const { return points_without_face_; }
+
+    static constexpr std::uint32_t kNoClass = 0xFFFFFFFFu;
+
+private:
+    FaceGrid grid_;
+    std::size_t num_classes_;
+    float radius_m_;
+    std::vector<float> mass_;  // face-major, num_classes per face
+    std::size_t points_voted_ = 0;
+    std::size_t points_void_ = 0;
+    std::size_t points_without_face_ = 0;
+};
+
+}  // namespace vdbmap::semantic
