@@ -61,7 +61,9 @@ float pointTriangleDistance(const Vec3f& p, const Vec3f& a, const Vec3f& b, cons
     return (p - (a + ab * v + ac * w)).norm();
 }
 
-std::uint64_t FaceGrid::key(std::int64_t x, std::int64_t y, std::int64_t z) const {
+namespace {
+
+std::uint64_t cellKey(std::int64_t x, std::int64_t y, std::int64_t z) {
     const auto u = [](std::int64_t v) {
         return static_cast<std::uint64_t>(std::clamp<std::int64_t>(v + kCellBias, 0,
                                                                    2 * kCellBias - 1));
@@ -69,12 +71,16 @@ std::uint64_t FaceGrid::key(std::int64_t x, std::int64_t y, std::int64_t z) cons
     return (u(x) << 42) | (u(y) << 21) | u(z);
 }
 
+}  // namespace
+
 FaceGrid::FaceGrid(const std::vector<Vec3f>& vertices,
-                   const std::vector<std::array<std::uint32_t, 3>>& triangles, float cell_m)
-    : vertices_(vertices), triangles_(triangles), cell_m_(cell_m) {
-    if (!(cell_m > 0.0f)) throw InvalidInput("FaceGrid: cell size must be > 0");
+                   const std::vector<std::array<std::uint32_t, 3>>& triangles, float radius_m)
+    : vertices_(vertices), triangles_(triangles), radius_m_(radius_m) {
+    if (!(radius_m > 0.0f)) throw InvalidInput("FaceGrid: the radius must be > 0");
+    const float cell_m = 2.0f * radius_m;
+    spheres_.resize(triangles.size(), Eigen::Vector4f::Zero());
     std::vector<std::pair<std::uint64_t, std::uint32_t>> entries;
-    entries.reserve(triangles.size() * 2);
+    entries.reserve(triangles.size() * 9);
     for (std::size_t f = 0; f < triangles.size(); ++f) {
         Vec3f lo = Vec3f::Constant(std::numeric_limits<float>::max());
         Vec3f hi = -lo;
@@ -87,10 +93,17 @@ FaceGrid::FaceGrid(const std::vector<Vec3f>& vertices,
             hi = hi.cwiseMax(vertices[v]);
         }
         if (!lo.allFinite() || !hi.allFinite()) continue;
+        const Vec3f centre = (vertices[triangles[f][0]] + vertices[triangles[f][1]] +
+                              vertices[triangles[f][2]]) / 3.0f;
+        float bound = 0.0f;
+        for (const std::uint32_t v : triangles[f]) bound = std::max(bound, (vertices[v] - centre).norm());
+        spheres_[f] << centre, bound + radius_m;
+        lo.array() -= radius_m;
+        hi.array() += radius_m;
         for (auto x = cellOf(lo.x(), cell_m); x <= cellOf(hi.x(), cell_m); ++x) {
             for (auto y = cellOf(lo.y(), cell_m); y <= cellOf(hi.y(), cell_m); ++y) {
                 for (auto z = cellOf(lo.z(), cell_m); z <= cellOf(hi.z(), cell_m); ++z) {
-                    entries.emplace_back(key(x, y, z), static_cast<std::uint32_t>(f));
+                    entries.emplace_back(cellKey(x, y, z), static_cast<std::uint32_t>(f));
                 }
             }
         }
@@ -99,7 +112,7 @@ FaceGrid::FaceGrid(const std::vector<Vec3f>& vertices,
     cell_faces_.reserve(entries.size());
     for (std::size_t i = 0; i < entries.size(); ++i) {
         if (i == 0 || entries[i].first != entries[i - 1].first) {
-            cell_keys_.push_back(entries[i].first);
+            cell_index_.emplace(entries[i].first, static_cast<std::uint32_t>(cell_offsets_.size()));
             cell_offsets_.push_back(i);
         }
         cell_faces_.push_back(entries[i].second);
@@ -107,30 +120,21 @@ FaceGrid::FaceGrid(const std::vector<Vec3f>& vertices,
     cell_offsets_.push_back(entries.size());
 }
 
-void FaceGrid::facesWithin(const Vec3f& p, float radius_m, std::vector<std::uint32_t>& faces,
+void FaceGrid::facesWithin(const Vec3f& p, std::vector<std::uint32_t>& faces,
                            std::vector<float>& distances_m) const {
     faces.clear();
     distances_m.clear();
-    std::vector<std::uint32_t> candidates;
-    for (auto x = cellOf(p.x() - radius_m, cell_m_); x <= cellOf(p.x() + radius_m, cell_m_); ++x) {
-        for (auto y = cellOf(p.y() - radius_m, cell_m_); y <= cellOf(p.y() + radius_m, cell_m_);
-             ++y) {
-            for (auto z = cellOf(p.z() - radius_m, cell_m_);
-                 z <= cellOf(p.z() + radius_m, cell_m_); ++z) {
-                const auto it = std::lower_bound(cell_keys_.begin(), cell_keys_.end(), key(x, y, z));
-                if (it == cell_keys_.end() || *it != key(x, y, z)) continue;
-                const std::size_t c = static_cast<std::size_t>(it - cell_keys_.begin());
-                candidates.insert(candidates.end(), cell_faces_.begin() + cell_offsets_[c],
-                                  cell_faces_.begin() + cell_offsets_[c + 1]);
-            }
-        }
-    }
-    std::sort(candidates.begin(), candidates.end());
-    candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
-    for (const std::uint32_t f : candidates) {
+    const float cell_m = 2.0f * radius_m_;
+    const auto it = cell_index_.find(
+        cellKey(cellOf(p.x(), cell_m), cellOf(p.y(), cell_m), cellOf(p.z(), cell_m)));
+    if (it == cell_index_.end()) return;
+    for (std::uint64_t k = cell_offsets_[it->second]; k < cell_offsets_[it->second + 1]; ++k) {
+        const std::uint32_t f = cell_faces_[k];
+        const Eigen::Vector4f& sphere = spheres_[f];
+        if ((sphere.head<3>() - p).squaredNorm() >= sphere[3] * sphere[3]) continue;
         const auto& t = triangles_[f];
         const float d = pointTriangleDistance(p, vertices_[t[0]], vertices_[t[1]], vertices_[t[2]]);
-        if (d < radius_m) {
+        if (d < radius_m_) {
             faces.push_back(f);
             distances_m.push_back(d);
         }
@@ -210,7 +214,7 @@ void LidarVoteAccumulator::add(const std::vector<Vec3f>& points_W,
         std::vector<float> dist;
         const std::size_t end = std::min(samples.size(), (c + 1) * kChunk);
         for (std::size_t s = c * kChunk; s < end; ++s) {
-            grid_.facesWithin(samples[s].p, radius_m_, faces, dist);
+            grid_.facesWithin(samples[s].p, faces, dist);
             if (faces.empty()) missed[c] += samples[s].count;
             for (std::size_t k = 0; k < faces.size(); ++k) {
                 const float w = (1.0f - dist[k] * dist[k] / r2) * static_cast<float>(samples[s].count);

@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 #include "SemanticVotes.h"
@@ -10,26 +11,28 @@
 
 namespace vdbmap::semantic {
 
-/// Faces binned in a uniform grid of cubic cells (a face goes into every cell its bounding
-/// box touches), for "all faces within r of a point" queries.
+/// Faces binned in a uniform grid of cubic cells for "all faces within r of a point" queries:
+/// a face goes into every cell that its bounding box, grown by `radius_m`, touches, so that a
+/// query looks into the one cell that holds the point.
 class FaceGrid {
 public:
+    /// `vertices` and `triangles` must outlive the grid. Cells are 2 `radius_m` wide.
     FaceGrid(const std::vector<Vec3f>& vertices,
-             const std::vector<std::array<std::uint32_t, 3>>& triangles, float cell_m);
-    /// Appends to `faces` (cleared first) every face whose closest point lies within `radius_m`
-    /// of `p`, with that distance, ascending by face index.
-    void facesWithin(const Vec3f& p, float radius_m, std::vector<std::uint32_t>& faces,
+             const std::vector<std::array<std::uint32_t, 3>>& triangles, float radius_m);
+    /// Every face whose closest point lies closer than the grid's radius to `p`, with that
+    /// distance, ascending by face index (`faces` and `distances_m` are cleared first).
+    void facesWithin(const Vec3f& p, std::vector<std::uint32_t>& faces,
                      std::vector<float>& distances_m) const;
     std::size_t numFaces() const { return triangles_.size(); }
 
 private:
-    std::uint64_t key(std::int64_t x, std::int64_t y, std::int64_t z) const;
     const std::vector<Vec3f>& vertices_;
     const std::vector<std::array<std::uint32_t, 3>>& triangles_;
-    float cell_m_;
-    std::vector<std::uint64_t> cell_keys_;   // sorted, unique
-    std::vector<std::uint64_t> cell_offsets_;  // size cell_keys_+1
+    float radius_m_;
+    std::unordered_map<std::uint64_t, std::uint32_t> cell_index_;  // cell key -> cell
+    std::vector<std::uint64_t> cell_offsets_;                      // size cells + 1
     std::vector<std::uint32_t> cell_faces_;
+    std::vector<Eigen::Vector4f> spheres_;  // per face: centroid, bounding radius + radius_m
 };
 
 /// Exact distance from `p` to the triangle (a, b, c) (Ericson, Real-Time Collision Detection,

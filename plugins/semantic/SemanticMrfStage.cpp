@@ -149,8 +149,9 @@ void SemanticMrfStage::declareOptions(OptionSpec& spec) {
     spec.add("lidar_vote_radius_m", "A labelled point votes for the faces closer than this",
              lidar_vote_radius_m_, 0.1, "m");
     spec.add("fill",
-             "Smoothness of the MRF, which fills faces no source saw: 'geometric' (weights fall "
-             "across normal changes and height steps) or 'uniform' (the paper: all weights 1)",
+             "Fill of faces no source saw: 'geometric' (the Potts weight of an edge next to such "
+             "a face falls across normal changes and height steps) or 'uniform' (the paper: "
+             "all weights 1)",
              fill_, std::string("geometric"));
     spec.add("fill_normal_sigma_deg", "geometric fill: angle scale of the edge weight",
              fill_normal_sigma_deg_, 20.0, "deg");
@@ -414,6 +415,13 @@ void SemanticMrfStage::run(Context& ctx) {
         geo.height_sigma_m = fill_height_sigma_m_;
         edge_weights = geometricEdgeWeights(faces.vertices, faces.triangles, adjacency,
                                             worldUp(dataset), geo);
+        // The fill only: between two observed faces the paper's uniform Potts term stays
+        // (there the data decide, and the weights would only weaken the denoising).
+        for (std::size_t e = 0; e < adjacency.size(); ++e) {
+            if (votes.observed(adjacency[e][0]) && votes.observed(adjacency[e][1])) {
+                edge_weights[e] = 1.0f;
+            }
+        }
         fusion.edge_weights = &edge_weights;
     }
     const FusionResult result = fuseLabels(votes, adjacency, labels, fusion);
