@@ -206,6 +206,7 @@ void SemanticMrfStage::initialize() {
 void SemanticMrfStage::declareLayers(LayerSpec& spec) const {
     spec.reads(layers::kMesh);
     if (image_votes_) spec.reads(layers::kSemanticImages);
+    if (lidar_labels_) spec.reads(layers::kScans);  // with their labels, from the dataset
     spec.writes(layers::kFaceLabels);
 }
 
@@ -304,7 +305,12 @@ static LidarVoteResult lidarVotes(const SemanticMrfStage& stage, Context& ctx,
     const Dataset& dataset = ctx.dataset();
     const std::string name(stage.name());
     Timer timer;
-    LabelMap map = LabelMap::identity();
+    // No label_map: the ids are the label set's own (and 255); any other id is an error.
+    std::string own_ids = "255 255\n";
+    for (const LabelClass& c : labels.classes()) {
+        own_ids += std::to_string(c.id) + " " + std::to_string(c.id) + "\n";
+    }
+    LabelMap map = LabelMap::parse(own_ids, "(none: the ids of the label set; set label_map)");
     if (label_map_option == "semantickitti") {
         map = LabelMap::semanticKitti();
     } else if (!label_map_option.empty()) {
