@@ -57,4 +57,21 @@ std::vector<float> geometricEdgeWeights(const std::vector<Vec3f>& vertices,
     return weights;
 }
 
+void uniformBetweenObserved(std::vector<float>& weights,
+                            const std::vector<std::array<std::uint32_t, 2>>& adjacency,
+                            const FaceVotes& votes) {
+    if (weights.size() != adjacency.size()) {
+        throw InvalidInput("uniformBetweenObserved: " + std::to_string(weights.size()) +
+                           " weights for " + std::to_string(adjacency.size()) + " edges");
+    }
+    for (std::size_t e = 0; e < adjacency.size(); ++e) {
+        const auto [i, j] = adjacency[e];
+        if (i >= votes.numFaces() || j >= votes.numFaces()) {
+            throw InvalidInput("uniformBetweenObserved: edge " + std::to_string(e) +
+                               " is out of range of the votes");
+        }
+        if (votes.observed(i) && votes.observed(j)) weights[e] = 1.0f;
+    }
+}
+
 }  // namespace vdbmap::semantic

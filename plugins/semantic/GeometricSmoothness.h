@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "SemanticVotes.h"
 #include "vdbmap/core/Types.h"
 
 namespace vdbmap::semantic {
@@ -33,5 +34,12 @@ std::vector<float> geometricEdgeWeights(const std::vector<Vec3f>& vertices,
                                         const std::vector<std::array<std::uint32_t, 2>>& adjacency,
                                         const Vec3f& up,
                                         const GeometricSmoothnessOptions& options);
+
+/// The fill only: sets w_ij = 1 (the paper's uniform Potts term) on every edge between two
+/// faces that some source voted for, where the data decide and lower weights would only
+/// weaken the denoising. Throws InvalidInput on a size mismatch.
+void uniformBetweenObserved(std::vector<float>& weights,
+                            const std::vector<std::array<std::uint32_t, 2>>& adjacency,
+                            const FaceVotes& votes);
 
 }  // namespace vdbmap::semantic

@@ -421,13 +421,8 @@ void SemanticMrfStage::run(Context& ctx) {
         geo.height_sigma_m = fill_height_sigma_m_;
         edge_weights = geometricEdgeWeights(faces.vertices, faces.triangles, adjacency,
                                             worldUp(dataset), geo);
-        // The fill only: between two observed faces the paper's uniform Potts term stays
-        // (there the data decide, and the weights would only weaken the denoising).
-        for (std::size_t e = 0; e < adjacency.size(); ++e) {
-            if (votes.observed(adjacency[e][0]) && votes.observed(adjacency[e][1])) {
-                edge_weights[e] = 1.0f;
-            }
-        }
+        // The fill only: between two observed faces the paper's uniform Potts term stays.
+        uniformBetweenObserved(edge_weights, adjacency, votes);
         fusion.edge_weights = &edge_weights;
     }
     const FusionResult result = fuseLabels(votes, adjacency, labels, fusion);

@@ -187,8 +187,9 @@ int main(int argc, char** argv) {
     const double t_lidar = step.elapsedSeconds();
     step.reset();
     const auto adjacency = faceAdjacency(mesh);
-    const std::vector<float> weights = semantic::geometricEdgeWeights(
+    std::vector<float> weights = semantic::geometricEdgeWeights(
         vertices, triangles, adjacency, Vec3f::UnitZ(), semantic::GeometricSmoothnessOptions{});
+    semantic::uniformBetweenObserved(weights, adjacency, combined);
     semantic::FusionOptions fusion;
     fusion.edge_weights = &weights;
     const semantic::FusionResult result = semantic::fuseLabels(combined, adjacency, labels, fusion);

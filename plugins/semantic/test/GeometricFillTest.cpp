@@ -151,7 +151,14 @@ TEST_CASE("fill on two planes: the geometric weights stop the ground class at th
     const auto adjacency = faceAdjacency(s.mesh);
     const LabelSet labels = LabelSet::defaults();
     const FaceVotes votes = planeVotes(s, 0, 2, 8, 15, labels.size());
-    const auto w = geometricEdgeWeights(s.vertices, s.triangles, adjacency, Vec3f::UnitZ(), {});
+    auto w = geometricEdgeWeights(s.vertices, s.triangles, adjacency, Vec3f::UnitZ(), {});
+    // As the stage does: uniform between observed faces; the crease touches the unseen wall.
+    uniformBetweenObserved(w, adjacency, votes);
+    for (std::size_t e = 0; e < adjacency.size(); ++e) {
+        const bool a_wall = s.row[adjacency[e][0]] >= kRows, b_wall = s.row[adjacency[e][1]] >= kRows;
+        if (a_wall != b_wall) REQUIRE(w[e] == Approx(0.01f));
+    }
+    CHECK_THROWS_AS(uniformBetweenObserved(w, {}, votes), InvalidInput);
     FusionOptions uniform, geometric;
     geometric.edge_weights = &w;
     const FusionResult u = fuseLabels(votes, adjacency, labels, uniform);
