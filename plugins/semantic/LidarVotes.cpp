@@ -143,8 +143,9 @@ void FaceGrid::facesWithin(const Vec3f& p, std::vector<std::uint32_t>& faces,
 
 LidarVoteAccumulator::LidarVoteAccumulator(
     const std::vector<Vec3f>& vertices, const std::vector<std::array<std::uint32_t, 3>>& triangles,
-    std::size_t num_classes, float radius_m)
+    std::size_t num_classes, float radius_m, std::size_t batch_points)
     : grid_(vertices, triangles, radius_m > 0.0f ? radius_m : 1.0f),
+      batch_points_(std::max<std::size_t>(1, batch_points)),
       num_classes_(num_classes),
       radius_m_(radius_m),
       mass_(triangles.size() * num_classes, 0.0f) {
@@ -161,6 +162,20 @@ void LidarVoteAccumulator::add(const std::vector<Vec3f>& points_W,
         throw InvalidInput("LiDAR votes: " + std::to_string(points_W.size()) + " points but " +
                            std::to_string(classes.size()) + " classes");
     }
+    for (const std::uint32_t c : classes) {
+        if (c != kNoClass && c >= num_classes_) {
+            throw InvalidInput("LiDAR votes: class index " + std::to_string(c) +
+                               " out of range (" + std::to_string(num_classes_) + " classes)");
+        }
+    }
+    pending_points_.insert(pending_points_.end(), points_W.begin(), points_W.end());
+    pending_classes_.insert(pending_classes_.end(), classes.begin(), classes.end());
+    if (pending_points_.size() >= batch_points_) flush();
+}
+
+void LidarVoteAccumulator::flush() {
+    const std::vector<Vec3f>& points_W = pending_points_;
+    const std::vector<std::uint32_t>& classes = pending_classes_;
     // 1. Merge the points per (cell of r/2, class): mean position, count as weight.
     const float merge_m = 0.5f * radius_m_;
     std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed;  // (cell key, point)
@@ -169,10 +184,6 @@ void LidarVoteAccumulator::add(const std::vector<Vec3f>& points_W,
         if (classes[i] == kNoClass) {
             ++points_void_;
             continue;
-        }
-        if (classes[i] >= num_classes_) {
-            throw InvalidInput("LiDAR votes: class index " + std::to_string(classes[i]) +
-                               " out of range (" + std::to_string(num_classes_) + " classes)");
         }
         const Vec3f& p = points_W[i];
         if (!p.allFinite()) continue;
@@ -230,9 +241,12 @@ void LidarVoteAccumulator::add(const std::vector<Vec3f>& points_W,
     }
     for (const Sample& s : samples) points_voted_ += s.count;
     points_voted_ -= std::accumulate(missed.begin(), missed.end(), std::size_t(0));
+    pending_points_.clear();
+    pending_classes_.clear();
 }
 
-FaceVotes LidarVoteAccumulator::finish() const {
+FaceVotes LidarVoteAccumulator::finish() {
+    flush();
     FaceVotes votes;
     votes.num_classes = num_classes_;
     const std::size_t n_faces = grid_.numFaces();

@@ -159,12 +159,12 @@ std::vector<VignettingEstimate> estimateFromImages(
 }
 
 /// Colours of the faces no view saw. Fill "smooth" (smooth_fill): the harmonic fill of the
-/// textured faces' mean colours (harmonicFill). Fill "neighbour": the mean colour (in its chosen view) of
+/// textured faces' mean colours (harmonicFill), weighted by the crease angle (creaseWeights). Fill "neighbour": the mean colour (in its chosen view) of
 /// the nearest textured face through the face adjacency (breadth-first), quantised to 16 levels
 /// per channel so that a palette of at most 4096 cells holds them; faces with no textured face
 /// in their component, and every face under fill "grey", get fill_bgr. Returns the palette and
 /// the cell of each untextured face.
-std::vector<Vec3f> fillPalette(const std::vector<std::uint32_t>& face_view,
+std::vector<Vec3f> fillPalette(const MeshArrays& mesh, const std::vector<std::uint32_t>& face_view,
                                const std::vector<Vec3f>& face_color,
                                const std::vector<std::array<std::uint32_t, 2>>& adjacency,
                                const TextureOptions& options, std::vector<std::uint32_t>& cell) {
@@ -194,7 +194,9 @@ std::vector<Vec3f> fillPalette(const std::vector<std::uint32_t>& face_view,
         // Harmonic fill: colours diffused from the textured border (SmoothFill.h).
         for (std::uint32_t f = 0; f < n; ++f) known[f] = face_view[f] != kNoLabel;
         std::vector<char> filled;
-        color = harmonicFill(known, face_color, adjacency, filled);
+        // Weighted by the crease angle, so that colours do not run across object edges.
+        const std::vector<float> weights = creaseWeights(mesh.vertices_W, mesh.faces, adjacency);
+        color = harmonicFill(known, face_color, adjacency, filled, &weights);
         for (std::uint32_t f = 0; f < n; ++f) known[f] = known[f] || filled[f];
     } else if (options.fill_from_neighbours) {
         for (std::uint32_t f = 0; f < n; ++f) {
@@ -334,7 +336,7 @@ Layout layoutPhase(const MeshArrays& mesh, const Visibility& vis,
         out.face_pixels[f] = it->pixels;
         face_color[f] = obs_stats[static_cast<std::size_t>(it - vis.obs.data())].mean_bgr;
     }
-    out.palette = fillPalette(result.face_view, face_color, adjacency, options, out.face_fill_cell);
+    out.palette = fillPalette(mesh, result.face_view, face_color, adjacency, options, out.face_fill_cell);
     out.atlas = layoutAtlas(patches, out.face_pixels, mesh.faces.size(), options.padding_px,
                             options.atlas_max_size_px, static_cast<int>(out.palette.size()));
     stats.patches = patches.size();

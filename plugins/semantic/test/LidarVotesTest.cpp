@@ -113,9 +113,9 @@ TEST_CASE("LiDAR votes equal a brute-force oracle on random points", "[semantic]
         classes.push_back(cls(rng));
     }
     std::vector<float> oracle(g.triangles.size() * 4, 0.0f);
-    LidarVoteAccumulator acc(g.vertices, g.triangles, 4, r);
+    LidarVoteAccumulator acc(g.vertices, g.triangles, 4, r, 1);  // flush every add
     for (std::size_t i = 0; i < points.size(); ++i) {
-        acc.add({points[i]}, {classes[i]});  // one scan per point: no merging
+        acc.add({points[i]}, {classes[i]});  // batch of 1: no merging
         for (std::size_t f = 0; f < g.triangles.size(); ++f) {
             const auto& t = g.triangles[f];
             const float d = pointTriangleDistance(points[i], g.vertices[t[0]], g.vertices[t[1]],

@@ -60,3 +60,25 @@ TEST_CASE("harmonic fill on a grid: the mean-value property, within the border's
     CHECK_THROWS_AS(harmonicFill(known, std::vector<Vec3f>(3), adjacency, filled), InvalidInput);
     CHECK_THROWS_AS(harmonicFill(known, color, {{0, 999}}, filled), InvalidInput);
 }
+
+TEST_CASE("weighted harmonic fill and crease weights in closed form", "[texture][fill]") {
+    // Path 0 - 1 - 2, ends fixed at 0 and 100, weights 1 and 3: x_1 = (1 * 0 + 3 * 100) / 4.
+    const std::vector<std::array<std::uint32_t, 2>> path{{0, 1}, {1, 2}};
+    const std::vector<char> known{1, 0, 1};
+    const std::vector<Vec3f> color{Vec3f::Zero(), Vec3f::Zero(), Vec3f(100, 100, 100)};
+    const std::vector<float> w{1.0f, 3.0f};
+    std::vector<char> filled;
+    const auto out = harmonicFill(known, color, path, filled, &w);
+    CHECK(out[1].x() == Approx(75.0f).margin(1e-4));
+    const std::vector<float> bad{1.0f};
+    CHECK_THROWS_AS(harmonicFill(known, color, path, filled, &bad), InvalidInput);
+
+    // Three triangles: 0 and 1 coplanar (z = 0), 2 folded up by 90 degrees along x = 1.
+    const std::vector<Vec3f> v{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {1, 0, 1}};
+    const std::vector<std::array<std::uint32_t, 3>> faces{{0, 1, 2}, {0, 2, 3}, {1, 4, 2}};
+    const std::vector<std::array<std::uint32_t, 2>> adjacency{{0, 1}, {0, 2}};
+    const auto cw = creaseWeights(v, faces, adjacency, 20.0, 0.01);
+    CHECK(cw[0] == Approx(1.0f));
+    CHECK(cw[1] == Approx(0.01f));  // exp(-(90/20)^2 / 2) = 4e-5, floored
+    CHECK(creaseWeights(v, faces, {{0, 1}}, 90.0, 0.01)[0] == Approx(1.0f));
+}
