@@ -12,7 +12,7 @@ cd "$root"
 
 seq_dir=out/demo/seq
 run_dir=out/demo/run
-if [ -f "$seq_dir/poses.txt" ] && [ -d "$seq_dir/velodyne" ]; then
+if [ -f "$seq_dir/poses.txt" ] && [ -d "$seq_dir/velodyne" ] && [ -d "$seq_dir/labels" ]; then
     echo "demo: reusing the simulated sequence in $seq_dir"
 else
     rm -rf "$seq_dir"

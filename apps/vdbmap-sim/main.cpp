@@ -84,6 +84,20 @@ int main(int argc, char** argv) {
     app.add_option("--label-noise", options.label_noise_px,
                    "Jitter of semantic class boundaries in pixels")
         ->check(CLI::Range(0, 50));
+    bool no_lidar_labels = false;
+    app.add_flag("--no-lidar-labels", no_lidar_labels,
+                 "Do not write per-point LiDAR labels (labels/NNNNNN.label)");
+    std::string lidar_label_ids = "semantickitti";
+    app.add_option("--lidar-label-ids", lidar_label_ids,
+                   "Ids in the .label files: semantickitti (raw SemanticKITTI ids, map them "
+                   "with config/label_maps/semantickitti.txt) or ours (the label set's ids)")
+        ->check(CLI::IsMember({"semantickitti", "ours"}));
+    app.add_option("--lidar-label-flip", options.lidar_label_flip_rate,
+                   "Probability that a LiDAR point's label is flipped to another scene class")
+        ->check(CLI::Range(0.0, 1.0));
+    app.add_option("--lidar-label-boundary", options.lidar_label_boundary_px,
+                   "Jitter of LiDAR label class boundaries in range-image pixels")
+        ->check(CLI::Range(0, 50));
     bool no_images = false;
     app.add_flag("--no-images", no_images, "Write LiDAR and ground truth only");
     app.add_option("--gt-views", options.gt_views, "Held-out ground-truth views (gt/views)");
@@ -100,6 +114,8 @@ int main(int argc, char** argv) {
         return code == 0 ? 0 : 2;
     }
     options.images = !no_images;
+    options.lidar_labels = !no_lidar_labels;
+    options.lidar_label_semantickitti_ids = lidar_label_ids == "semantickitti";
     if (options.quiet) vdbmap::setLogLevel(vdbmap::LogLevel::Warn);
     const std::size_t n_threads =
         threads > 0 ? static_cast<std::size_t>(threads)

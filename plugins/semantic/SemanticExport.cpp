@@ -58,13 +58,15 @@ void setFaceLabelProperty(TriMesh& mesh, const std::vector<std::uint8_t>& face_l
 }
 
 void writeSemanticPly(const std::filesystem::path& path, const TriMesh& mesh,
-                      const std::vector<std::uint8_t>& face_labels, const LabelSet& labels) {
+                      const std::vector<std::uint8_t>& face_labels, const LabelSet& labels,
+                      const std::vector<float>* confidence) {
     checkSize(mesh, face_labels, "writeSemanticPly");
     std::vector<std::array<std::uint8_t, 3>> colors(face_labels.size());
     for (std::size_t f = 0; f < face_labels.size(); ++f) colors[f] = labels.color(face_labels[f]);
     PlyWriteOptions options;
     options.face_labels = &face_labels;
     options.face_colors = &colors;
+    options.face_confidence = confidence;
     writeMeshPly(path, mesh, options);
 }
 

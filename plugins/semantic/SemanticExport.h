@@ -29,9 +29,11 @@ std::map<std::uint8_t, ClassStats> classStatistics(const TriMesh& mesh,
 void setFaceLabelProperty(TriMesh& mesh, const std::vector<std::uint8_t>& face_labels);
 
 /// `semantic/mesh.ply` (DATA.md): binary PLY with face uchar label and red green blue from the
-/// label set's colours (black for 255). Atomic. Throws IoError / InvalidInput.
+/// label set's colours (black for 255), and float "confidence" if `confidence` is non-null.
+/// Atomic. Throws IoError / InvalidInput.
 void writeSemanticPly(const std::filesystem::path& path, const TriMesh& mesh,
-                      const std::vector<std::uint8_t>& face_labels, const LabelSet& labels);
+                      const std::vector<std::uint8_t>& face_labels, const LabelSet& labels,
+                      const std::vector<float>* confidence = nullptr);
 
 /// Material name of a class in the OBJ: "class_<id>_<name>" (spaces -> '_'), "unknown" for 255.
 std::string classMaterialName(std::uint8_t id, const LabelSet& labels);

@@ -21,6 +21,13 @@ MrfProblem fusionProblem(const FaceVotes& votes,
     problem.num_labels = n;
     problem.lambda = options.lambda;
     problem.edges = adjacency;
+    if (options.edge_weights != nullptr) {
+        if (options.edge_weights->size() != adjacency.size()) {
+            throw InvalidInput("semantic fusion: " + std::to_string(options.edge_weights->size()) +
+                               " edge weights for " + std::to_string(adjacency.size()) + " edges");
+        }
+        problem.edge_weights = *options.edge_weights;
+    }
     problem.offsets.reserve(num_faces + 1);
     problem.offsets.push_back(0);
     const double floor = std::max(options.probability_floor, 1e-12);
@@ -93,6 +100,29 @@ MrfProblem fusionProblem(const FaceVotes& votes,
     return problem;
 }
 
+namespace {
+
+std::vector<float> posteriorMargins(const FaceVotes& votes, const std::vector<std::uint32_t>& cls,
+                                    const std::vector<std::uint8_t>& face_labels) {
+    std::vector<float> margin(votes.numFaces(), 0.0f);
+    for (std::size_t f = 0; f < margin.size(); ++f) {
+        if (!votes.observed(f) || face_labels[f] == kUnknownLabel) continue;
+        double total = 0.0, own = 0.0, other = 0.0;
+        for (std::uint64_t k = votes.offsets[f]; k < votes.offsets[f + 1]; ++k) {
+            total += votes.weights[k];
+            if (votes.classes[k] == cls[f]) {
+                own = votes.weights[k];
+            } else {
+                other = std::max(other, static_cast<double>(votes.weights[k]));
+            }
+        }
+        if (total > 0.0) margin[f] = static_cast<float>(std::max(0.0, (own - other) / total));
+    }
+    return margin;
+}
+
+}  // namespace
+
 FusionResult fuseLabels(const FaceVotes& votes,
                         const std::vector<std::array<std::uint32_t, 2>>& adjacency,
                         const LabelSet& labels, const FusionOptions& options) {
@@ -142,6 +172,7 @@ FusionResult fuseLabels(const FaceVotes& votes,
         result.filled_faces += !observed;
         result.face_labels[f] = labels.classes()[solution.labels[f]].id;
     }
+    result.confidence = posteriorMargins(votes, solution.labels, result.face_labels);
     return result;
 }
 

@@ -19,6 +19,9 @@ struct FusionOptions {
     /// the classes they were voted for. Slower; the floor cost makes such a switch rare.
     bool all_classes = false;
     int max_sweeps = 5;
+    /// Per-edge Potts weights w_ij (same order as the adjacency; geometricEdgeWeights), or
+    /// null for the paper's uniform weights (all 1).
+    const std::vector<float>* edge_weights = nullptr;
 };
 
 /// The MRF of paper Eq. (semantic_mrf_energy_function): one node per face; an observed face
@@ -39,6 +42,10 @@ struct FusionResult {
     std::size_t filled_faces = 0;            ///< unobserved faces given a class by smoothness
     std::size_t unlabelled_faces = 0;        ///< written as 255
     std::size_t unlabelled_components = 0;   ///< connected components without any observed face
+    /// Per face: the posterior margin of its label under the data term,
+    /// max(0, p(l_i) - max_{c != l_i} p(c)) with p the normalised votes; 0 for a face without
+    /// votes (filled or unknown). 1 = every vote agreed with the label.
+    std::vector<float> confidence;
     double initial_energy = 0;
     double final_energy = 0;
     int sweeps = 0;

@@ -16,6 +16,7 @@
 #include "vdbmap/pipeline/Report.h"
 #include "vdbmap/render/Raycaster.h"
 #include "vdbmap/render/Visibility.h"
+#include "vdbmap/render/VisibilitySetup.h"
 
 namespace vdbmap::texture {
 
@@ -56,8 +57,9 @@ void TextureMrfStage::declareOptions(OptionSpec& spec) {
     spec.add("occlusion_test", "Test occlusion by the mesh itself (Embree BVH)", occlusion_test_,
              true);
     spec.add("fill",
-             "Faces no view saw: 'neighbour' (colour of the nearest textured face) or 'grey'",
-             fill_, std::string("neighbour"));
+             "Faces no view saw: 'smooth' (colours diffused from the textured border, a sparse "
+             "Laplace solve), 'neighbour' (colour of the nearest textured face) or 'grey'",
+             fill_, std::string("smooth"));
     spec.add("output_subdir", "Folder below the output folder for mesh.obj/.mtl and atlases",
              output_subdir_, std::string("textured"));
 }
@@ -103,8 +105,8 @@ void TextureMrfStage::initialize() {
                    std::to_string(seam_smoothness_));
     }
     if (output_subdir_.empty()) failConfig("option 'output_subdir' must not be empty");
-    if (fill_ != "neighbour" && fill_ != "grey") {
-        failConfig("option 'fill' must be 'neighbour' or 'grey', got '" + fill_ + "'");
+    if (fill_ != "smooth" && fill_ != "neighbour" && fill_ != "grey") {
+        failConfig("option 'fill' must be 'smooth', 'neighbour' or 'grey', got '" + fill_ + "'");
     }
 }
 
@@ -114,20 +116,13 @@ void TextureMrfStage::declareLayers(LayerSpec& spec) const {
     spec.writes(layers::kTexture);
 }
 
-void TextureMrfStage::run(Context& ctx) {
-    TriMesh& tri_mesh = ctx.mesh();
-    const Dataset& dataset = ctx.dataset();
-    const std::string stage(name());
-    Report& report = ctx.report();
-    Timer total;
-
+TextureOptions TextureMrfStage::textureOptions(std::size_t num_cameras, bool quiet) const {
     TextureOptions options;
     options.use_mrf = mrf_;
     options.lambda = lambda_;
     options.max_candidates = static_cast<std::size_t>(max_candidates_);
     options.vignetting = vignetting_;
     options.estimate_vignetting = estimate_vignetting_;
-    const std::size_t num_cameras = dataset.cameras().size();
     if (vignetting_params_.size() == 3) {
         options.vignetting_params.assign(
             num_cameras, {vignetting_params_[0], vignetting_params_[1], vignetting_params_[2]});
@@ -150,43 +145,16 @@ void TextureMrfStage::run(Context& ctx) {
     options.leveling.smoothness = seam_smoothness_;
     options.padding_px = padding_px_;
     options.atlas_max_size_px = atlas_max_size_px_;
-    options.quiet = ctx.quiet();
-    options.fill_from_neighbours = fill_ == "neighbour";
+    options.quiet = quiet;
+    options.fill_from_neighbours = fill_ == "neighbour" || fill_ == "smooth";
+    options.smooth_fill = fill_ == "smooth";
+    return options;
+}
 
-    const MeshArrays mesh = meshArrays(tri_mesh);
-    if (mesh.faces.empty()) fail("the mesh has no faces: nothing to texture");
-    const std::vector<View> views = datasetViews(dataset, true, false);
-    if (views.empty()) fail("the dataset has no colour images: nothing to texture from");
+namespace {
 
-    Timer step;
-    VisibilityOptions vis_options;
-    vis_options.max_view_angle_deg = max_view_angle_deg_;
-    vis_options.min_depth_m = min_depth_m_;
-    vis_options.max_depth_m = max_depth_m_;
-    vis_options.occlusion_test = occlusion_test_;
-    const Raycaster raycaster = Raycaster::fromMesh(tri_mesh);
-    const Visibility vis =
-        computeVisibility(tri_mesh, views, vis_options, occlusion_test_ ? &raycaster : nullptr);
-    const auto adjacency = faceAdjacency(tri_mesh);
-    const double visibility_s = step.elapsedSeconds();
-    report.set({"stages", stage, "timings_s", "visibility"}, visibility_s);
-    report.set({"stages", stage, "peak_memory_bytes", "visibility"}, peakMemoryBytes());
-
-    const ImageLoader load = [&](std::size_t v) {
-        const auto path = dataset.imagePath(views[v].frame, views[v].camera);
-        if (!path) {
-            throw IoError("texture.mrf: image of frame " + std::to_string(views[v].frame) +
-                          " camera " + std::to_string(views[v].camera) + " disappeared");
-        }
-        return readColorImage(*path);
-    };
-    const TextureResult result = textureMesh(mesh, views, vis, adjacency, load, options);
-
-    step.reset();
-    writeTexturedMesh(ctx.outputDir() / output_subdir_, mesh, result);
-    const double export_s = step.elapsedSeconds();
-
-    // The "texture" layer: the chosen view per face on the shared mesh.
+// Phase: the "texture" layer, the chosen view per face on the shared mesh (-1 = fill).
+void setTextureLayer(TriMesh& tri_mesh, const TextureResult& result) {
     OpenMesh::FPropHandleT<int> view_prop;
     if (!tri_mesh.get_property_handle(view_prop, kFaceTextureViewProperty)) {
         tri_mesh.add_property(view_prop, kFaceTextureViewProperty);
@@ -195,14 +163,21 @@ void TextureMrfStage::run(Context& ctx) {
         const std::uint32_t v = result.face_view[static_cast<std::size_t>(fh.idx())];
         tri_mesh.property(view_prop, fh) = v == kNoLabel ? -1 : static_cast<int>(v);
     }
+}
 
-    const TextureStats& s = result.stats;
+}  // namespace
+
+void TextureMrfStage::reportStats(Report& report, const TextureStats& s, double export_s,
+                                  double total_s) const {
+    const std::string stage(name());
     report.stage(stage, "faces", s.faces);
     report.stage(stage, "views", s.views);
     report.stage(stage, "observations", s.observations);
     report.stage(stage, "faces_untextured", s.faces_untextured);
     report.stage(stage, "untextured_fill",
-                 fill_ == "neighbour"
+                 fill_ == "smooth"
+                     ? std::string("harmonic fill from the textured border (16 levels per channel)")
+                 : fill_ == "neighbour"
                      ? std::string("colour of the nearest textured face (16 levels per channel)")
                      : std::string("grey (128, 128, 128)"));
     report.stage(stage, "photo_rejected_observations", s.photo_rejected);
@@ -228,9 +203,56 @@ void TextureMrfStage::run(Context& ctx) {
         report.set({"stages", stage, "peak_memory_bytes", step_name}, bytes);
     }
     report.set({"stages", stage, "timings_s", "export"}, export_s);
-    const double total_s = total.elapsedSeconds();
     report.set({"stages", stage, "timings_s", "total"}, total_s);
     report.stage(stage, "faces_per_s", total_s > 0 ? double(s.faces) / total_s : 0.0);
+}
+
+void TextureMrfStage::run(Context& ctx) {
+    TriMesh& tri_mesh = ctx.mesh();
+    const Dataset& dataset = ctx.dataset();
+    const std::string stage(name());
+    Report& report = ctx.report();
+    Timer total;
+
+    const TextureOptions options = textureOptions(dataset.cameras().size(), ctx.quiet());
+
+    const MeshArrays mesh = meshArrays(tri_mesh);
+    if (mesh.faces.empty()) fail("the mesh has no faces: nothing to texture");
+    const std::vector<View> views = datasetViews(dataset, true, false);
+    if (views.empty()) fail("the dataset has no colour images: nothing to texture from");
+
+    Timer step;
+    VisibilityOptions vis_options;
+    vis_options.max_view_angle_deg = max_view_angle_deg_;
+    vis_options.min_depth_m = min_depth_m_;
+    vis_options.max_depth_m = max_depth_m_;
+    vis_options.occlusion_test = occlusion_test_;
+    const Visibility vis =
+        meshVisibility(tri_mesh, views, vis_options, stage + " visibility", ctx.quiet());
+    const auto adjacency = faceAdjacency(tri_mesh);
+    const double visibility_s = step.elapsedSeconds();
+    report.set({"stages", stage, "timings_s", "visibility"}, visibility_s);
+    report.set({"stages", stage, "peak_memory_bytes", "visibility"}, peakMemoryBytes());
+
+    const ImageLoader load = [&](std::size_t v) {
+        const auto path = dataset.imagePath(views[v].frame, views[v].camera);
+        if (!path) {
+            throw IoError("texture.mrf: image of frame " + std::to_string(views[v].frame) +
+                          " camera " + std::to_string(views[v].camera) + " disappeared");
+        }
+        return readColorImage(*path);
+    };
+    const TextureResult result = textureMesh(mesh, views, vis, adjacency, load, options);
+
+    step.reset();
+    writeTexturedMesh(ctx.outputDir() / output_subdir_, mesh, result);
+    const double export_s = step.elapsedSeconds();
+
+    setTextureLayer(tri_mesh, result);
+
+    const double total_s = total.elapsedSeconds();
+    reportStats(report, result.stats, export_s, total_s);
+    const TextureStats& s = result.stats;
     std::ostringstream msg;
     msg << "texture.mrf: " << s.faces << " faces, " << s.views << " views, " << s.patches
         << " patches in " << s.pages << " atlas page(s), " << s.faces_untextured << " untextured, "

@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "TexturePipeline.h"
+#include "vdbmap/pipeline/Report.h"
 #include "vdbmap/pipeline/Stage.h"
 
 namespace vdbmap::texture {
@@ -27,6 +29,12 @@ public:
     void run(Context& ctx) override;
 
 private:
+    /// Phase: the TextureOptions of the stage options for `num_cameras` cameras.
+    TextureOptions textureOptions(std::size_t num_cameras, bool quiet) const;
+    /// Phase: counts, timings and the vignetting used into report.json.
+    void reportStats(Report& report, const TextureStats& stats, double export_s,
+                     double total_s) const;
+
     bool mrf_ = true;
     double lambda_ = 1.0;
     int max_candidates_ = 0;

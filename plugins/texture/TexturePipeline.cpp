@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "TexturePipeline.h"
+#include "SmoothFill.h"
 
 #include <tbb/parallel_for.h>
 
@@ -157,12 +158,13 @@ std::vector<VignettingEstimate> estimateFromImages(
     return estimateVignetting(samples, view_camera, num_cameras);
 }
 
-/// Colours of the faces no view saw. Fill "neighbour": the mean colour (in its chosen view) of
+/// Colours of the faces no view saw. Fill "smooth" (smooth_fill): the harmonic fill of the
+/// textured faces' mean colours (harmonicFill), weighted by the crease angle (creaseWeights). Fill "neighbour": the mean colour (in its chosen view) of
 /// the nearest textured face through the face adjacency (breadth-first), quantised to 16 levels
 /// per channel so that a palette of at most 4096 cells holds them; faces with no textured face
 /// in their component, and every face under fill "grey", get fill_bgr. Returns the palette and
 /// the cell of each untextured face.
-std::vector<Vec3f> fillPalette(const std::vector<std::uint32_t>& face_view,
+std::vector<Vec3f> fillPalette(const MeshArrays& mesh, const std::vector<std::uint32_t>& face_view,
                                const std::vector<Vec3f>& face_color,
                                const std::vector<std::array<std::uint32_t, 2>>& adjacency,
                                const TextureOptions& options, std::vector<std::uint32_t>& cell) {
@@ -188,7 +190,15 @@ std::vector<Vec3f> fillPalette(const std::vector<std::uint32_t>& face_view,
     std::vector<Vec3f> color(face_color);
     std::vector<char> known(n, 0);
     std::deque<std::uint32_t> frontier;
-    if (options.fill_from_neighbours) {
+    if (options.fill_from_neighbours && options.smooth_fill) {
+        // Harmonic fill: colours diffused from the textured border (SmoothFill.h).
+        for (std::uint32_t f = 0; f < n; ++f) known[f] = face_view[f] != kNoLabel;
+        std::vector<char> filled;
+        // Weighted by the crease angle, so that colours do not run across object edges.
+        const std::vector<float> weights = creaseWeights(mesh.vertices_W, mesh.faces, adjacency);
+        color = harmonicFill(known, face_color, adjacency, filled, &weights);
+        for (std::uint32_t f = 0; f < n; ++f) known[f] = known[f] || filled[f];
+    } else if (options.fill_from_neighbours) {
         for (std::uint32_t f = 0; f < n; ++f) {
             if (face_view[f] != kNoLabel) {
                 known[f] = 1;
@@ -234,6 +244,181 @@ std::vector<Vec3f> fillPalette(const std::vector<std::uint32_t>& face_view,
     return palette;
 }
 
+// Phase: the vignetting models used (paper Sec. 5.2.1): given per camera, or estimated from
+// the overlaps. Null when vignetting is off.
+std::vector<VignettingParams> vignettingModels(const std::vector<View>& views,
+                                               const Visibility& vis,
+                                               const std::vector<std::vector<std::uint64_t>>& per_view,
+                                               const ImageLoader& load,
+                                               const TextureOptions& options, TextureStats& stats,
+                                               StepClock& clock) {
+    std::vector<VignettingParams> vignetting = options.vignetting_params;
+    if (options.vignetting && options.estimate_vignetting) {
+        stats.vignetting_estimates = estimateFromImages(views, vis, per_view, load, options.quiet);
+        vignetting.clear();
+        for (const auto& e : stats.vignetting_estimates) vignetting.push_back(e.params);
+        clock.done("vignetting_estimate");
+    }
+    if (options.vignetting) stats.vignetting_used = vignetting;
+    return vignetting;
+}
+
+// Phase (pass 1): E_Q (paper Eq. E_Q) and the mean colour of every observation, one image per
+// task.
+std::vector<ObservationStats> observationPass(const std::vector<View>& views,
+                                              const Visibility& vis,
+                                              const std::vector<std::vector<std::uint64_t>>& per_view,
+                                              const ImageLoader& load,
+                                              const std::vector<VignettingParams>* vignetting,
+                                              bool quiet) {
+    std::vector<ObservationStats> obs_stats(vis.obs.size());
+    Progress progress("texture: data term", views.size(), quiet);
+    tbb::parallel_for(std::size_t{0}, views.size(), [&](std::size_t v) {
+        if (!per_view[v].empty()) {
+            const cv::Mat image = loadCorrected(load, views, v, vignetting);
+            computeObservationStats(image, vis, per_view[v], true, obs_stats);
+        }
+        progress.tick();
+    });
+    return obs_stats;
+}
+
+// Phase: view selection (paper Sec. 5.1), the chosen view per face.
+std::vector<std::uint32_t> chooseViews(const Visibility& vis,
+                                       const std::vector<ObservationStats>& obs_stats,
+                                       const std::vector<char>& keep,
+                                       const std::vector<std::array<std::uint32_t, 2>>& adjacency,
+                                       std::size_t num_views, const TextureOptions& options,
+                                       TextureStats& stats) {
+    const MrfProblem problem = buildViewSelectionProblem(
+        vis, obs_stats, keep, adjacency, num_views, options.lambda, options.max_candidates);
+    const MrfSolution solution = selectViews(problem, options.use_mrf);
+    stats.energy_initial = solution.initial_energy;
+    stats.energy_final = solution.final_energy;
+    stats.mrf_sweeps = solution.sweeps;
+    std::ostringstream msg;
+    msg << "texture: view selection energy " << solution.initial_energy << " -> "
+        << solution.final_energy << (options.use_mrf ? " (alpha-expansion)" : " (best view)");
+    logInfo(msg.str());
+    return solution.labels;
+}
+
+// What the layout phase hands to the atlas passes.
+struct Layout {
+    std::vector<std::uint32_t> face_patch;
+    std::vector<std::array<Eigen::Vector2f, 3>> face_pixels;
+    std::vector<std::uint32_t> face_fill_cell;
+    std::vector<Vec3f> palette;
+    AtlasLayout atlas;
+    std::vector<SeamEdge> seams;
+};
+
+// Phase: patches, the chosen view's projection of each face, the fill of untextured faces,
+// the atlas layout (empty pages allocated in `result`) and the seam edges.
+Layout layoutPhase(const MeshArrays& mesh, const Visibility& vis,
+                   const std::vector<ObservationStats>& obs_stats,
+                   const std::vector<std::array<std::uint32_t, 2>>& adjacency,
+                   const TextureOptions& options, TextureResult& result) {
+    TextureStats& stats = result.stats;
+    Layout out;
+    const std::vector<Patch> patches = buildPatches(result.face_view, adjacency, &out.face_patch);
+    out.face_pixels.resize(mesh.faces.size());
+    std::vector<Vec3f> face_color(mesh.faces.size(), Vec3f::Zero());
+    for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+        const std::uint32_t view = result.face_view[f];
+        if (view == kNoLabel) {
+            ++stats.faces_untextured;
+            continue;
+        }
+        const FaceObservation* it =
+            std::lower_bound(vis.begin(f), vis.end(f), view,
+                             [](const FaceObservation& o, std::uint32_t v) { return o.view < v; });
+        out.face_pixels[f] = it->pixels;
+        face_color[f] = obs_stats[static_cast<std::size_t>(it - vis.obs.data())].mean_bgr;
+    }
+    out.palette = fillPalette(mesh, result.face_view, face_color, adjacency, options, out.face_fill_cell);
+    out.atlas = layoutAtlas(patches, out.face_pixels, mesh.faces.size(), options.padding_px,
+                            options.atlas_max_size_px, static_cast<int>(out.palette.size()));
+    stats.patches = patches.size();
+    stats.charts = out.atlas.charts.size();
+    stats.pages = out.atlas.pages.size();
+    result.pages.reserve(out.atlas.pages.size());
+    for (const RectSize& s : out.atlas.pages) {
+        result.pages.emplace_back(s.height, s.width, CV_8UC3, cv::Scalar(0, 0, 0));
+    }
+    if (options.global_adjustment) out.seams = findSeamEdges(mesh, out.face_patch, adjacency);
+    stats.seam_edges = out.seams.size();
+    return out;
+}
+
+// Phase (pass 2): cut the charts from the (corrected) chosen views and sample the seams.
+std::vector<SeamSamples> atlasPass(const MeshArrays& mesh, const std::vector<View>& views,
+                                   const ImageLoader& load,
+                                   const std::vector<VignettingParams>* vignetting,
+                                   const Layout& layout, bool quiet, TextureResult& result) {
+    std::vector<std::vector<std::uint32_t>> charts_of_view(views.size());
+    for (std::uint32_t c = 0; c < layout.atlas.charts.size(); ++c) {
+        charts_of_view[layout.atlas.charts[c].view].push_back(c);
+    }
+    const std::vector<SeamEdge>& seams = layout.seams;
+    std::vector<std::vector<std::pair<std::uint32_t, bool>>> seams_of_view(views.size());
+    for (std::uint32_t k = 0; k < seams.size(); ++k) {
+        seams_of_view[result.face_view[seams[k].face_a]].emplace_back(k, true);
+        seams_of_view[result.face_view[seams[k].face_b]].emplace_back(k, false);
+    }
+    std::vector<SeamSamples> samples(seams.size());
+    Progress progress("texture: atlas", views.size(), quiet);
+    tbb::parallel_for(std::size_t{0}, views.size(), [&](std::size_t v) {
+        if (!charts_of_view[v].empty() || !seams_of_view[v].empty()) {
+            const cv::Mat image = loadCorrected(load, views, v, vignetting);
+            for (std::uint32_t c : charts_of_view[v]) {
+                const Chart& chart = layout.atlas.charts[c];
+                cutChart(image, chart, result.pages[chart.place.page]);
+            }
+            for (const auto& [k, side_a] : seams_of_view[v]) {
+                const SeamEdge& s = seams[k];
+                const std::uint32_t face = side_a ? s.face_a : s.face_b;
+                const auto& px = layout.face_pixels[face];
+                const Eigen::Vector2f p0 = px[cornerOf(mesh.faces[face], s.v0)];
+                const Eigen::Vector2f p1 = px[cornerOf(mesh.faces[face], s.v1)];
+                Vec3f& at_v0 = side_a ? samples[k].a_v0 : samples[k].b_v0;
+                Vec3f& at_v1 = side_a ? samples[k].a_v1 : samples[k].b_v1;
+                at_v0 = sampleSeamEnd(image, p0, p1);
+                at_v1 = sampleSeamEnd(image, p1, p0);
+            }
+        }
+        progress.tick();
+    });
+    return samples;
+}
+
+// Phase: global colour adjustment (paper Eq. seam_levelling) applied to the charts.
+void levelSeams(const MeshArrays& mesh, const Layout& layout,
+                const std::vector<SeamSamples>& samples, const TextureOptions& options,
+                TextureResult& result) {
+    SeamLevelingResult leveling =
+        solveSeamLeveling(mesh, layout.face_patch, layout.seams, samples, options.leveling);
+    tbb::parallel_for(std::size_t{0}, layout.atlas.charts.size(), [&](std::size_t c) {
+        const Chart& chart = layout.atlas.charts[c];
+        applyChartCorrection(chart, layout.face_pixels, leveling.corner_correction,
+                             result.pages[chart.place.page]);
+    });
+    leveling.corner_correction.clear();
+    leveling.corner_correction.shrink_to_fit();
+    result.stats.leveling_summary = std::move(leveling);
+}
+
+// Phase: the palette block of the untextured faces' colours.
+void paintFillCells(const Layout& layout, TextureResult& result) {
+    if (!layout.atlas.has_fill_block) return;
+    for (std::size_t cell = 0; cell < layout.palette.size(); ++cell) {
+        const RectPlacement origin = fillCellOrigin(layout.atlas, static_cast<int>(cell));
+        const Vec3f& c = layout.palette[cell];
+        result.pages[origin.page](cv::Rect(origin.x, origin.y, kFillCellPx, kFillCellPx))
+            .setTo(cv::Scalar(c[0], c[1], c[2]));
+    }
+}
+
 }  // namespace
 
 TextureResult textureMesh(const MeshArrays& mesh, const std::vector<View>& views,
@@ -249,30 +434,13 @@ TextureResult textureMesh(const MeshArrays& mesh, const std::vector<View>& views
     StepClock clock(stats);
     const auto per_view = observationsPerView(vis, views.size());
 
-    // Vignetting (paper Sec. 5.2.1): given per camera, or estimated from the overlaps.
-    std::vector<VignettingParams> vignetting = options.vignetting_params;
-    if (options.vignetting && options.estimate_vignetting) {
-        stats.vignetting_estimates = estimateFromImages(views, vis, per_view, load, options.quiet);
-        vignetting.clear();
-        for (const auto& e : stats.vignetting_estimates) vignetting.push_back(e.params);
-        clock.done("vignetting_estimate");
-    }
+    const std::vector<VignettingParams> vignetting =
+        vignettingModels(views, vis, per_view, load, options, stats, clock);
     const std::vector<VignettingParams>* vignetting_used =
         options.vignetting ? &vignetting : nullptr;
-    if (options.vignetting) stats.vignetting_used = vignetting;
 
-    // Pass 1: E_Q (paper Eq. E_Q) and mean colours of every observation, one image per task.
-    std::vector<ObservationStats> obs_stats(vis.obs.size());
-    {
-        Progress progress("texture: data term", views.size(), options.quiet);
-        tbb::parallel_for(std::size_t{0}, views.size(), [&](std::size_t v) {
-            if (!per_view[v].empty()) {
-                const cv::Mat image = loadCorrected(load, views, v, vignetting_used);
-                computeObservationStats(image, vis, per_view[v], true, obs_stats);
-            }
-            progress.tick();
-        });
-    }
+    const std::vector<ObservationStats> obs_stats =
+        observationPass(views, vis, per_view, load, vignetting_used, options.quiet);
     clock.done("data_term");
 
     std::vector<char> keep(vis.obs.size(), 1);
@@ -281,118 +449,24 @@ TextureResult textureMesh(const MeshArrays& mesh, const std::vector<View>& views
         clock.done("photo_consistency");
     }
 
-    // View selection (paper Sec. 5.1).
-    const MrfProblem problem = buildViewSelectionProblem(
-        vis, obs_stats, keep, adjacency, views.size(), options.lambda, options.max_candidates);
-    const MrfSolution solution = selectViews(problem, options.use_mrf);
-    stats.energy_initial = solution.initial_energy;
-    stats.energy_final = solution.final_energy;
-    stats.mrf_sweeps = solution.sweeps;
-    result.face_view = solution.labels;
-    {
-        std::ostringstream msg;
-        msg << "texture: view selection energy " << solution.initial_energy << " -> "
-            << solution.final_energy << (options.use_mrf ? " (alpha-expansion)" : " (best view)");
-        logInfo(msg.str());
-    }
+    result.face_view = chooseViews(vis, obs_stats, keep, adjacency, views.size(), options, stats);
     clock.done("mrf");
 
-    // Patches and atlas layout; the chosen view's projection of each face.
-    std::vector<std::uint32_t> face_patch;
-    const std::vector<Patch> patches = buildPatches(result.face_view, adjacency, &face_patch);
-    std::vector<std::array<Eigen::Vector2f, 3>> face_pixels(mesh.faces.size());
-    std::vector<Vec3f> face_color(mesh.faces.size(), Vec3f::Zero());
-    for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
-        const std::uint32_t view = result.face_view[f];
-        if (view == kNoLabel) {
-            ++stats.faces_untextured;
-            continue;
-        }
-        const FaceObservation* it =
-            std::lower_bound(vis.begin(f), vis.end(f), view,
-                             [](const FaceObservation& o, std::uint32_t v) { return o.view < v; });
-        face_pixels[f] = it->pixels;
-        face_color[f] = obs_stats[static_cast<std::size_t>(it - vis.obs.data())].mean_bgr;
-    }
-    std::vector<std::uint32_t> face_fill_cell;
-    const std::vector<Vec3f> palette =
-        fillPalette(result.face_view, face_color, adjacency, options, face_fill_cell);
-    const AtlasLayout layout =
-        layoutAtlas(patches, face_pixels, mesh.faces.size(), options.padding_px,
-                    options.atlas_max_size_px, static_cast<int>(palette.size()));
-    stats.patches = patches.size();
-    stats.charts = layout.charts.size();
-    stats.pages = layout.pages.size();
-    result.pages.reserve(layout.pages.size());
-    for (const RectSize& s : layout.pages) {
-        result.pages.emplace_back(s.height, s.width, CV_8UC3, cv::Scalar(0, 0, 0));
-    }
-    const std::vector<SeamEdge> seams = options.global_adjustment
-                                            ? findSeamEdges(mesh, face_patch, adjacency)
-                                            : std::vector<SeamEdge>{};
-    stats.seam_edges = seams.size();
+    const Layout layout = layoutPhase(mesh, vis, obs_stats, adjacency, options, result);
     clock.done("patches_layout");
 
-    // Pass 2: cut the charts from the (corrected) chosen views and sample the seams.
-    std::vector<std::vector<std::uint32_t>> charts_of_view(views.size());
-    for (std::uint32_t c = 0; c < layout.charts.size(); ++c) {
-        charts_of_view[layout.charts[c].view].push_back(c);
-    }
-    std::vector<std::vector<std::pair<std::uint32_t, bool>>> seams_of_view(views.size());
-    for (std::uint32_t k = 0; k < seams.size(); ++k) {
-        seams_of_view[result.face_view[seams[k].face_a]].emplace_back(k, true);
-        seams_of_view[result.face_view[seams[k].face_b]].emplace_back(k, false);
-    }
-    std::vector<SeamSamples> samples(seams.size());
-    {
-        Progress progress("texture: atlas", views.size(), options.quiet);
-        tbb::parallel_for(std::size_t{0}, views.size(), [&](std::size_t v) {
-            if (!charts_of_view[v].empty() || !seams_of_view[v].empty()) {
-                const cv::Mat image = loadCorrected(load, views, v, vignetting_used);
-                for (std::uint32_t c : charts_of_view[v]) {
-                    cutChart(image, layout.charts[c], result.pages[layout.charts[c].place.page]);
-                }
-                for (const auto& [k, side_a] : seams_of_view[v]) {
-                    const SeamEdge& s = seams[k];
-                    const std::uint32_t face = side_a ? s.face_a : s.face_b;
-                    const auto& px = face_pixels[face];
-                    const Eigen::Vector2f p0 = px[cornerOf(mesh.faces[face], s.v0)];
-                    const Eigen::Vector2f p1 = px[cornerOf(mesh.faces[face], s.v1)];
-                    Vec3f& at_v0 = side_a ? samples[k].a_v0 : samples[k].b_v0;
-                    Vec3f& at_v1 = side_a ? samples[k].a_v1 : samples[k].b_v1;
-                    at_v0 = sampleSeamEnd(image, p0, p1);
-                    at_v1 = sampleSeamEnd(image, p1, p0);
-                }
-            }
-            progress.tick();
-        });
-    }
+    const std::vector<SeamSamples> samples =
+        atlasPass(mesh, views, load, vignetting_used, layout, options.quiet, result);
     clock.done("atlas_cut");
 
-    // Global colour adjustment (paper Eq. seam_levelling).
     if (options.global_adjustment) {
-        SeamLevelingResult leveling =
-            solveSeamLeveling(mesh, face_patch, seams, samples, options.leveling);
-        tbb::parallel_for(std::size_t{0}, layout.charts.size(), [&](std::size_t c) {
-            const Chart& chart = layout.charts[c];
-            applyChartCorrection(chart, face_pixels, leveling.corner_correction,
-                                 result.pages[chart.place.page]);
-        });
-        leveling.corner_correction.clear();
-        leveling.corner_correction.shrink_to_fit();
-        stats.leveling_summary = std::move(leveling);
+        levelSeams(mesh, layout, samples, options, result);
         clock.done("global_adjustment");
     }
 
-    if (layout.has_fill_block) {
-        for (std::size_t cell = 0; cell < palette.size(); ++cell) {
-            const RectPlacement origin = fillCellOrigin(layout, static_cast<int>(cell));
-            const Vec3f& c = palette[cell];
-            result.pages[origin.page](cv::Rect(origin.x, origin.y, kFillCellPx, kFillCellPx))
-                .setTo(cv::Scalar(c[0], c[1], c[2]));
-        }
-    }
-    faceUvs(layout, face_pixels, result.face_uvs, result.face_page, face_fill_cell);
+    paintFillCells(layout, result);
+    faceUvs(layout.atlas, layout.face_pixels, result.face_uvs, result.face_page,
+            layout.face_fill_cell);
     clock.done("uvs");
     return result;
 }

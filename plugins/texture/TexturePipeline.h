@@ -32,6 +32,9 @@ struct TextureOptions {
     int atlas_max_size_px = 8192;
     /// Faces no view saw take the colour of the nearest textured face (true) or fill_bgr.
     bool fill_from_neighbours = true;
+    /// With fill_from_neighbours: diffuse the colours from the textured border over the face
+    /// graph (harmonic fill, SmoothFill.h) instead of copying the nearest textured face's.
+    bool smooth_fill = true;
     std::array<std::uint8_t, 3> fill_bgr{128, 128, 128};  ///< colour when no neighbour has one
     bool quiet = true;                                    ///< no progress bars
 };
@@ -66,7 +69,8 @@ struct TextureResult {
 /// photo-consistency check, view-selection MRF, patches and atlas layout, a second pass over
 /// the chosen views that cuts the charts and samples the seams, global colour adjustment, UVs.
 /// Images are loaded one per task and never kept (memory: one image per thread + the atlas).
-/// Faces no view saw get the colour of the nearest textured face (or fill_bgr) from a palette
+/// Faces no view saw get a colour diffused from the textured faces (smooth_fill), or that of the
+/// nearest textured face (or fill_bgr) from a palette
 /// block in the atlas, and are counted. Throws InvalidInput
 /// on inconsistent inputs and whatever `load` throws.
 TextureResult textureMesh(const MeshArrays& mesh, const std::vector<View>& views,

@@ -72,6 +72,7 @@ std::shared_ptr<Dataset> Dataset::open(const DatasetConfig& config,
                           config.format + "'");
     }
     DatasetBuilder::findImages(*dataset);
+    DatasetBuilder::findLidarLabels(*dataset);
     return dataset;
 }
 

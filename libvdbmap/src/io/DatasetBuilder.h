@@ -29,6 +29,8 @@ public:
     /// Finds the image files of every (frame, camera), reads each camera's size from its first
     /// image, and drops cameras without images (logWarn).
     static void findImages(Dataset& dataset);
+    /// The LiDAR label folder: `labels_dir` (must exist), else KITTI's SEQ/labels if present.
+    static void findLidarLabels(Dataset& dataset);
 
     /// `relative` resolved against `base` (unchanged if absolute or base is empty).
     static std::filesystem::path resolve(const std::filesystem::path& base,

@@ -42,6 +42,10 @@ void DatasetConfig::declareOptions(OptionSpec& spec) {
                           calib_file, "");
     spec.add<std::string>("labels_file", "Label set 'id, name, r g b'; empty = DATA.md default",
                           labels_file, "");
+    spec.add<std::string>("labels_dir",
+                          "Per-point LiDAR labels (SemanticKITTI .label, one per scan, same stem); "
+                          "KITTI: default SEQ/labels when present; relative to path",
+                          labels_dir, "");
 }
 
 }  // namespace vdbmap

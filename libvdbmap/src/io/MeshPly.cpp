@@ -35,6 +35,9 @@ void writeMeshPly(const std::filesystem::path& path, const TriMesh& mesh,
               mesh.n_faces(), "face_labels", path);
     checkSize(options.face_colors, options.face_colors ? options.face_colors->size() : 0,
               mesh.n_faces(), "face_colors", path);
+    checkSize(options.face_confidence,
+              options.face_confidence ? options.face_confidence->size() : 0, mesh.n_faces(),
+              "face_confidence", path);
     checkSize(options.vertex_colors, options.vertex_colors ? options.vertex_colors->size() : 0,
               mesh.n_vertices(), "vertex_colors", path);
     const bool normals = options.vertex_normals && mesh.has_vertex_normals();
@@ -60,6 +63,7 @@ void writeMeshPly(const std::filesystem::path& path, const TriMesh& mesh,
     if (options.face_colors) {
         header << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
     }
+    if (options.face_confidence) header << "property float confidence\n";
     header << "end_header\n";
     std::string bytes = header.str();
     bytes.reserve(bytes.size() + num_vertices * 27 + num_faces * 17);
@@ -96,6 +100,7 @@ void writeMeshPly(const std::filesystem::path& path, const TriMesh& mesh,
         if (options.face_colors) {
             for (const std::uint8_t c : (*options.face_colors)[fh.idx()]) put(bytes, c);
         }
+        if (options.face_confidence) put(bytes, (*options.face_confidence)[fh.idx()]);
     }
     writeFileAtomically(path, bytes);
 }

@@ -51,6 +51,9 @@ struct DatasetConfig {
     std::vector<double> T_C_L;             ///< generic: 12 (3x4) or 16 (4x4) row-major
     std::string calib_file;   ///< generic: K/D/T file; replaces intrinsics, distortion, T_C_L
     std::string labels_file;  ///< label set "id, name, r g b" ("" = DATA.md default)
+    /// Per-point LiDAR labels (SemanticKITTI .label, one per scan, same stem). Generic: the
+    /// folder ("" = none); KITTI: SEQ/labels/ when present (this key overrides the folder).
+    std::string labels_dir;
 
     /// Declares every field (key = field name) with its doc, default and unit. `rig` is not a
     /// field of the spec: the YAML binder fills it from `cameras:` when that holds maps
@@ -114,6 +117,12 @@ public:
     /// Semantic id image, or nullopt if missing / the camera has none.
     std::optional<std::filesystem::path> semanticPath(std::size_t i, std::size_t cam) const;
 
+    /// Per-point LiDAR label file of frame i (`<labels_dir>/<frame id>.label`), or nullopt if
+    /// the dataset has no label folder or the file is missing.
+    std::optional<std::filesystem::path> lidarLabelPath(std::size_t i) const;
+    /// The LiDAR label folder ("" = none).
+    const std::filesystem::path& lidarLabelDir() const { return lidar_labels_dir_; }
+
     /// Number of (frame, camera) pairs of the selected frames without a colour image.
     std::size_t missingImages() const;
     /// Number of selected frames without a colour image of camera `cam` (out_of_range past
@@ -136,6 +145,7 @@ private:
     std::vector<std::filesystem::path> image_dirs_;     // per camera ("" = none)
     std::vector<std::filesystem::path> semantic_dirs_;  // per camera ("" = none)
     std::filesystem::path base_dir_;                    // folder of the YAML file
+    std::filesystem::path lidar_labels_dir_;            // "" = no LiDAR labels
     // [frame][camera]: the file found for that view, empty if missing.
     std::vector<std::vector<std::filesystem::path>> image_paths_;
     std::vector<std::vector<std::filesystem::path>> semantic_paths_;

@@ -17,6 +17,7 @@ struct PlyWriteOptions {
     bool vertex_normals = true;                              ///< nx ny nz (float)
     const std::vector<std::uint8_t>* face_labels = nullptr;  ///< uchar "label" per face
     const std::vector<std::array<std::uint8_t, 3>>* face_colors = nullptr;  ///< red green blue
+    const std::vector<float>* face_confidence = nullptr;  ///< float "confidence" per face
     const std::vector<std::array<std::uint8_t, 3>>* vertex_colors = nullptr;
 };
 

@@ -64,6 +64,7 @@ LidarScan simulateScan(const LidarModel& model, const Raycaster& scene, const Is
         scan.points_L.intensity.push_back(0.2f + 0.8f * cos_inc);
         scan.true_points_W.push_back(origin_W + dirs_W[i] * hits[i]->distance);
         scan.faces.push_back(hits[i]->face);
+        scan.rays.push_back(static_cast<std::uint32_t>(i));
     }
     return scan;
 }

@@ -26,7 +26,7 @@ Isometry3d cameraFromLidar(const RigCamera& camera, const Isometry3d& T_V_L) {
 }  // namespace
 
 std::string rigDatasetYaml(const std::vector<RigCamera>& rig, const Isometry3d& T_V_L,
-                           const std::string& scans_dir) {
+                           const std::string& scans_dir, const std::string& labels_dir) {
     std::string text =
         "# SPDX-License-Identifier: Apache-2.0\n"
         "# Written by vdbmap-sim: the dataset section of this generic-layout sequence (DATA.md).\n"
@@ -39,8 +39,13 @@ std::string rigDatasetYaml(const std::vector<RigCamera>& rig, const Isometry3d& 
         scans_dir +
         "\n"
         "  poses_file: poses.txt      # LiDAR poses T_W_L, KITTI 3x4 lines\n"
-        "  pose_format: kitti\n"
-        "  cameras:\n";
+        "  pose_format: kitti\n";
+    if (!labels_dir.empty()) {
+        text += "  labels_dir: " + labels_dir +
+                "      # per-point LiDAR labels (.label; SemanticKITTI ids unless written with "
+                "--lidar-label-ids ours)\n";
+    }
+    text += "  cameras:\n";
     for (const RigCamera& camera : rig) {
         const CameraIntrinsics& K = camera.intrinsics;
         const Eigen::Matrix4d T = cameraFromLidar(camera, T_V_L).matrix();
@@ -59,14 +64,15 @@ std::string rigDatasetYaml(const std::vector<RigCamera>& rig, const Isometry3d& 
 }
 
 void writeRigCalibration(const std::filesystem::path& out_dir, const std::vector<RigCamera>& rig,
-                         const Isometry3d& T_V_L, const std::string& scans_dir) {
+                         const Isometry3d& T_V_L, const std::string& scans_dir,
+                         const std::string& labels_dir) {
     for (const RigCamera& camera : rig) {
         CameraCalib calib;
         calib.intrinsics = camera.intrinsics;
         calib.T_C_L = cameraFromLidar(camera, T_V_L);
         writeCameraCalib(out_dir / ("calib_" + camera.name + ".txt"), calib);
     }
-    writeFileAtomically(out_dir / "dataset.yaml", rigDatasetYaml(rig, T_V_L, scans_dir));
+    writeFileAtomically(out_dir / "dataset.yaml", rigDatasetYaml(rig, T_V_L, scans_dir, labels_dir));
 }
 
 }  // namespace vdbmap

@@ -8,10 +8,12 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 #include <random>
+#include <set>
 #include <sstream>
 #include <unordered_set>
 
 #include "sim/SimImaging.h"
+#include "sim/SimLidarLabels.h"
 #include "sim/SimRigOutput.h"
 #include "vdbmap/Error.h"
 #include "vdbmap/core/Log.h"
@@ -21,6 +23,7 @@
 #include "vdbmap/io/CalibIO.h"
 #include "vdbmap/io/Image.h"
 #include "vdbmap/io/LabelSet.h"
+#include "vdbmap/io/LidarLabels.h"
 #include "vdbmap/io/MeshIO.h"
 #include "vdbmap/io/PointCloudIO.h"
 #include "vdbmap/io/PoseIO.h"
@@ -99,8 +102,10 @@ CameraIntrinsics kittiLikeIntrinsics() {
     return K;
 }
 
-SimSummary writeSimSequence(const SimOptions& options, const std::filesystem::path& out_dir) {
-    const auto t0 = std::chrono::steady_clock::now();
+namespace {
+
+// Phase 1: options that CLI11 cannot check alone; the surround rig.
+std::vector<RigCamera> checkOptions(const SimOptions& options) {
     if (options.cameras != 1 && options.cameras != 2) {
         throw ConfigError("vdbmap-sim: --cameras must be 1 or 2, got " +
                           std::to_string(options.cameras));
@@ -114,19 +119,34 @@ SimSummary writeSimSequence(const SimOptions& options, const std::filesystem::pa
         throw ConfigError("vdbmap-sim: --cameras " + std::to_string(options.cameras) +
                           " is for the kitti rig; the surround rig has its own four cameras");
     }
-    std::vector<RigCamera> rig;
-    if (surround) {
-        try {
-            rig = surroundRig(options.rig_options);
-        } catch (const InvalidInput& e) {
-            throw ConfigError(std::string("vdbmap-sim: ") + e.what());
-        }
-    }
     if (options.label_noise_px < 0 || options.label_noise_px > 50) {
         throw ConfigError("vdbmap-sim: --label-noise must be in [0, 50] px, got " +
                           std::to_string(options.label_noise_px));
     }
+    if (!(options.lidar_label_flip_rate >= 0.0 && options.lidar_label_flip_rate <= 1.0)) {
+        throw ConfigError("vdbmap-sim: --lidar-label-flip must be in [0, 1], got " +
+                          std::to_string(options.lidar_label_flip_rate));
+    }
+    if (options.lidar_label_boundary_px < 0 || options.lidar_label_boundary_px > 50) {
+        throw ConfigError("vdbmap-sim: --lidar-label-boundary must be in [0, 50] px, got " +
+                          std::to_string(options.lidar_label_boundary_px));
+    }
+    if (!surround) return {};
+    try {
+        return surroundRig(options.rig_options);
+    } catch (const InvalidInput& e) {
+        throw ConfigError(std::string("vdbmap-sim: ") + e.what());
+    }
+}
+
+// Phase 2: the scene and its LiDAR.
+struct SceneAndLidar {
     SceneSetup setup;
+    LidarModel lidar;
+};
+
+SceneAndLidar buildScene(const SimOptions& options) {
+    SceneAndLidar out;
     std::string lidar_name = options.lidar;
     if (options.scene == "street") {
         StreetSceneOptions so;
@@ -134,167 +154,208 @@ SimSummary writeSimSequence(const SimOptions& options, const std::filesystem::pa
         so.frames = options.frames ? options.frames : 20;
         so.seed = options.seed;
         so.spot_dir = options.spot_dir;
-        setup = buildStreetScene(so);
+        out.setup = buildStreetScene(so);
         if (lidar_name.empty()) lidar_name = "hdl64";
     } else if (options.scene == "suv") {
         SuvSceneOptions so;
         so.frames = options.frames ? options.frames : 126;
         so.seed = options.seed;
-        setup = buildSuvScene(so);
+        out.setup = buildSuvScene(so);
         if (lidar_name.empty()) lidar_name = "vls128";
     } else {
         throw ConfigError("vdbmap-sim: unknown scene '" + options.scene +
                           "' (valid: street, suv)");
     }
-    const LidarModel lidar = lidarPreset(lidar_name);
-    const std::size_t n_frames = setup.T_S_V.size();
+    out.lidar = lidarPreset(lidar_name);
+    return out;
+}
 
-    // Frames: S scene, V vehicle, L LiDAR, C0 camera 0; the world W is C0 at frame 0.
-    const Isometry3d Tr = simTr();  // T_C0_L
+// Phase 3: the frames. S scene, V vehicle, L LiDAR, C0 camera 0; the world W is C0 at frame 0.
+// Moves the scene into W.
+struct SimFrames {
+    Isometry3d Tr = Isometry3d::Identity();     // T_C0_L
     Isometry3d T_V_L = Isometry3d::Identity();
-    T_V_L.translation() = Vec3d(0, 0, setup.lidar_height_m);
+    Isometry3d T_W_S = Isometry3d::Identity();
+    std::vector<Isometry3d> T_W_C0;
+    std::size_t size() const { return T_W_C0.size(); }
+};
+
+SimFrames placeFrames(SceneSetup& setup) {
+    SimFrames frames;
+    const std::size_t n_frames = setup.T_S_V.size();
+    frames.Tr = simTr();
+    frames.T_V_L.translation() = Vec3d(0, 0, setup.lidar_height_m);
     std::vector<Isometry3d> T_S_C0(n_frames);
-    for (std::size_t f = 0; f < n_frames; ++f) T_S_C0[f] = setup.T_S_V[f] * T_V_L * Tr.inverse();
-    const Isometry3d T_W_S = T_S_C0[0].inverse();
-    setup.scene.transform(T_W_S);
-    std::vector<Isometry3d> T_W_C0(n_frames);
-    for (std::size_t f = 0; f < n_frames; ++f) T_W_C0[f] = T_W_S * T_S_C0[f];
+    for (std::size_t f = 0; f < n_frames; ++f) {
+        T_S_C0[f] = setup.T_S_V[f] * frames.T_V_L * frames.Tr.inverse();
+    }
+    frames.T_W_S = T_S_C0[0].inverse();
+    setup.scene.transform(frames.T_W_S);
+    frames.T_W_C0.resize(n_frames);
+    for (std::size_t f = 0; f < n_frames; ++f) frames.T_W_C0[f] = frames.T_W_S * T_S_C0[f];
+    return frames;
+}
 
-    const SimScene& scene = setup.scene;
-    const Raycaster raycaster(scene.mesh.positions, scene.triangleIndices());
-    logInfo("vdbmap-sim: scene '" + options.scene + "' with " +
-            std::to_string(scene.numTriangles()) + " triangles, " + std::to_string(n_frames) +
-            " frames, LiDAR " + lidar.name);
-
-    const std::string scans_dir = surround ? "scans" : "velodyne";
-    std::filesystem::create_directories(out_dir / scans_dir);
-    std::filesystem::create_directories(out_dir / "gt" / "views");
-    std::filesystem::create_directories(out_dir / "gt" / "textured");
-
-    // Calibration, poses, times.
-    const CameraIntrinsics K = kittiLikeIntrinsics();
-    if (surround) {
+// Phase 4: calibration, poses, times.
+void writeCalibration(const std::filesystem::path& out_dir, const SimFrames& frames,
+                      const std::vector<RigCamera>& rig, const std::string& scans_dir,
+                      const std::string& labels_dir, double frame_rate_hz) {
+    const std::size_t n_frames = frames.size();
+    if (!rig.empty()) {
         // Generic layout: the poses are the LiDAR's own, T_W_L = T_W_C0 * Tr.
         std::vector<Isometry3d> T_W_L(n_frames);
-        for (std::size_t f = 0; f < n_frames; ++f) T_W_L[f] = T_W_C0[f] * Tr;
+        for (std::size_t f = 0; f < n_frames; ++f) T_W_L[f] = frames.T_W_C0[f] * frames.Tr;
         writeKittiPoses(out_dir / "poses.txt", T_W_L);
-        writeRigCalibration(out_dir, rig, T_V_L, scans_dir);
+        writeRigCalibration(out_dir, rig, frames.T_V_L, scans_dir, labels_dir);
     } else {
         KittiCalib calib;
-        for (int k = 0; k < 4; ++k) calib.P[k] = projection(K, cameraOffset(k));
-        calib.Tr = Tr;
+        for (int k = 0; k < 4; ++k) calib.P[k] = projection(kittiLikeIntrinsics(), cameraOffset(k));
+        calib.Tr = frames.Tr;
         writeKittiCalib(out_dir / "calib.txt", calib);
-        writeKittiPoses(out_dir / "poses.txt", T_W_C0);
+        writeKittiPoses(out_dir / "poses.txt", frames.T_W_C0);
     }
-    {
-        std::ostringstream times;
-        times << std::setprecision(9);
-        for (std::size_t f = 0; f < n_frames; ++f) times << f / setup.frame_rate_hz << "\n";
-        writeText(out_dir / "times.txt", times.str());
-    }
+    std::ostringstream times;
+    times << std::setprecision(9);
+    for (std::size_t f = 0; f < n_frames; ++f) times << f / frame_rate_hz << "\n";
+    writeText(out_dir / "times.txt", times.str());
+}
 
-    SimSummary summary;
-    summary.frames = n_frames;
-    std::vector<Vec3f> observed;
-    std::unordered_set<std::uint64_t> observed_voxels;
-    const float observed_voxel_m = 0.02f;
-    const std::vector<std::uint8_t>& labels = scene.face_labels;
-
-    std::vector<double> exposure(n_frames, 1.0);
-    std::vector<std::size_t> occluder_frames;
-    ImagingOptions imaging;
-    imaging.vignetting_abc = options.vignetting_abc;
-    imaging.label_noise_px = options.label_noise_px;
-    {
-        Progress progress("vdbmap-sim " + options.scene, n_frames, options.quiet);
-        for (std::size_t f = 0; f < n_frames; ++f) {
-            const std::uint64_t frame_seed = options.seed * 1000003ULL + f * 7919ULL + 17ULL;
-            const Isometry3d T_W_L = T_W_C0[f] * Tr;
-            const LidarScan scan = simulateScan(lidar, raycaster, T_W_L, frame_seed);
-            writeBin(out_dir / scans_dir / (frameName(f) + ".bin"), scan.points_L);
-            summary.points += scan.points_L.size();
-            for (const auto& p : scan.true_points_W) {
-                const auto q = (p / observed_voxel_m).array().floor().cast<std::int64_t>();
-                const std::uint64_t key = (static_cast<std::uint64_t>(q.x() & 0x1FFFFF) << 42) |
-                                          (static_cast<std::uint64_t>(q.y() & 0x1FFFFF) << 21) |
-                                          static_cast<std::uint64_t>(q.z() & 0x1FFFFF);
-                if (observed_voxels.insert(key).second) observed.push_back(p);
-            }
-            if (options.images) {
-                std::mt19937_64 rng(frame_seed ^ 0x5eedULL);
-                std::uniform_real_distribution<double> gain(1.0 - options.exposure_spread,
-                                                            1.0 + options.exposure_spread);
-                exposure[f] = f == 0 ? 1.0 : gain(rng);
-                SimScene occluder;
-                std::unique_ptr<Raycaster> occluder_rc;
-                if (options.occluders && (rng() % 3 == 0)) {
-                    occluder = makeOccluder(T_W_S * setup.T_S_V[f], setup.occluder_ahead_m, rng,
-                                            options.seed);
-                    occluder_rc = std::make_unique<Raycaster>(occluder.mesh.positions,
-                                                              occluder.triangleIndices());
-                    occluder_frames.push_back(f);
-                }
-                const auto render = [&](const CameraIntrinsics& K_c, const Isometry3d& T_C_W,
-                                        const std::string& image_folder,
-                                        const std::string& semantic_folder) {
-                    std::vector<RenderLayer> layers{
-                        RenderLayer{&scene.mesh, &scene.textures, &raycaster, &labels}};
-                    if (occluder_rc) {
-                        layers.push_back(RenderLayer{&occluder.mesh, &occluder.textures,
-                                                     occluder_rc.get(), &occluder.face_labels});
-                    }
-                    RenderOptions ro;
-                    ro.lambert = true;
-                    RenderedView view = renderView(layers, K_c, T_C_W, ro);
-                    applyVignettingAndExposure(view.color, imaging, exposure[f]);
-                    addLabelNoise(view.labels, imaging, rng);
-                    writePng(out_dir / image_folder / (frameName(f) + ".png"), view.color);
-                    writePng(out_dir / semantic_folder / (frameName(f) + ".png"), view.labels);
-                };
-                if (surround) {
-                    // T_W_V = T_W_C0 * Tr * T_V_L^-1; camera c at T_W_V * T_V_C.
-                    const Isometry3d T_W_V = T_W_C0[f] * Tr * T_V_L.inverse();
-                    for (const RigCamera& camera : rig) {
-                        render(camera.intrinsics, (T_W_V * camera.T_V_C).inverse(),
-                               "image_" + camera.name, "semantic_" + camera.name);
-                    }
-                }
-                for (int c = 0; c < options.cameras && !surround; ++c) {
-                    const int k = 2 + c;
-                    Isometry3d T_Ck_C0 = Isometry3d::Identity();
-                    T_Ck_C0.translation() = cameraOffset(k);
-                    const std::string kk = std::to_string(k);
-                    render(K, T_Ck_C0 * T_W_C0[f].inverse(), "image_" + kk, "semantic_" + kk);
-                }
-            }
-            progress.tick();
+// The noise-free surface points of all scans, one per 2 cm voxel (gt/observed_points.ply).
+class ObservedPoints {
+public:
+    static constexpr float kVoxelM = 0.02f;
+    void add(const std::vector<Vec3f>& points_W) {
+        for (const auto& p : points_W) {
+            const auto q = (p / kVoxelM).array().floor().cast<std::int64_t>();
+            const std::uint64_t key = (static_cast<std::uint64_t>(q.x() & 0x1FFFFF) << 42) |
+                                      (static_cast<std::uint64_t>(q.y() & 0x1FFFFF) << 21) |
+                                      static_cast<std::uint64_t>(q.z() & 0x1FFFFF);
+            if (voxels_.insert(key).second) points_.push_back(p);
         }
     }
-    if (options.images) {
-        std::ostringstream vig, exp;
-        vig << "# Radial vignetting applied to image_k (paper Sec. vignetting, Rohlfing 2012):\n"
-            << "# I_observed = I / g(r), g(r) = 1 + a r^2 + b r^4 + c r^6,\n"
-            << "# r = |(u,v) - (cx,cy)| / sqrt(cx^2 + cy^2), (cx,cy) = image centre\n"
-            << "# a b c\n"
-            << options.vignetting_abc[0] << " " << options.vignetting_abc[1] << " "
-            << options.vignetting_abc[2] << "\n";
-        writeText(out_dir / "vignetting.txt", vig.str());
-        exp << "# per-frame exposure gain multiplied into image_k (frame 0 = 1)\n"
-            << std::setprecision(9);
-        for (double e : exposure) exp << e << "\n";
-        writeText(out_dir / "exposure.txt", exp.str());
-    }
+    std::vector<Vec3f> take() { return std::move(points_); }
 
-    // Ground truth.
+private:
+    std::vector<Vec3f> points_;
+    std::unordered_set<std::uint64_t> voxels_;
+};
+
+// Everything the per-frame phase needs, fixed for the sequence.
+struct FrameContext {
+    const SimOptions& options;
+    const std::filesystem::path& out_dir;
+    const SceneSetup& setup;
+    const LidarModel& lidar;
+    const Raycaster& raycaster;
+    const SimFrames& frames;
+    const std::vector<RigCamera>& rig;
+    std::string scans_dir;
+    std::string labels_dir;             // "" = no LiDAR labels
+    std::vector<std::uint8_t> scene_classes;
+    ImagingOptions imaging;
+};
+
+// Phase 5a: the scan of frame f and its labels.
+void writeFrameScan(const FrameContext& c, std::size_t f, std::uint64_t frame_seed,
+                    SimSummary& summary, ObservedPoints& observed) {
+    const Isometry3d T_W_L = c.frames.T_W_C0[f] * c.frames.Tr;
+    const LidarScan scan = simulateScan(c.lidar, c.raycaster, T_W_L, frame_seed);
+    writeBin(c.out_dir / c.scans_dir / (frameName(f) + ".bin"), scan.points_L);
+    summary.points += scan.points_L.size();
+    observed.add(scan.true_points_W);
+    if (c.labels_dir.empty()) return;
+    SimLidarLabelOptions lo;
+    lo.semantickitti_ids = c.options.lidar_label_semantickitti_ids;
+    lo.flip_rate = c.options.lidar_label_flip_rate;
+    lo.boundary_px = c.options.lidar_label_boundary_px;
+    std::mt19937_64 rng(frame_seed ^ 0x1abe15ULL);
+    const LidarLabels labels =
+        simulateLidarLabels(scan, c.lidar, c.setup.scene.face_labels, c.scene_classes, lo, rng);
+    writeLidarLabels(c.out_dir / c.labels_dir / (frameName(f) + ".label"), labels);
+}
+
+// Phase 5b: the colour and semantic images of frame f (returns its exposure).
+double writeFrameImages(const FrameContext& c, std::size_t f, std::uint64_t frame_seed,
+                        std::vector<std::size_t>& occluder_frames) {
+    const SimScene& scene = c.setup.scene;
+    std::mt19937_64 rng(frame_seed ^ 0x5eedULL);
+    std::uniform_real_distribution<double> gain(1.0 - c.options.exposure_spread,
+                                                1.0 + c.options.exposure_spread);
+    const double exposure = f == 0 ? 1.0 : gain(rng);
+    SimScene occluder;
+    std::unique_ptr<Raycaster> occluder_rc;
+    if (c.options.occluders && (rng() % 3 == 0)) {
+        occluder = makeOccluder(c.frames.T_W_S * c.setup.T_S_V[f], c.setup.occluder_ahead_m, rng,
+                                c.options.seed);
+        occluder_rc =
+            std::make_unique<Raycaster>(occluder.mesh.positions, occluder.triangleIndices());
+        occluder_frames.push_back(f);
+    }
+    const auto render = [&](const CameraIntrinsics& K_c, const Isometry3d& T_C_W,
+                            const std::string& image_folder, const std::string& semantic_folder) {
+        std::vector<RenderLayer> layers{
+            RenderLayer{&scene.mesh, &scene.textures, &c.raycaster, &scene.face_labels}};
+        if (occluder_rc) {
+            layers.push_back(RenderLayer{&occluder.mesh, &occluder.textures, occluder_rc.get(),
+                                         &occluder.face_labels});
+        }
+        RenderOptions ro;
+        ro.lambert = true;
+        RenderedView view = renderView(layers, K_c, T_C_W, ro);
+        applyVignettingAndExposure(view.color, c.imaging, exposure);
+        addLabelNoise(view.labels, c.imaging, rng);
+        writePng(c.out_dir / image_folder / (frameName(f) + ".png"), view.color);
+        writePng(c.out_dir / semantic_folder / (frameName(f) + ".png"), view.labels);
+    };
+    if (!c.rig.empty()) {
+        // T_W_V = T_W_C0 * Tr * T_V_L^-1; camera c at T_W_V * T_V_C.
+        const Isometry3d T_W_V = c.frames.T_W_C0[f] * c.frames.Tr * c.frames.T_V_L.inverse();
+        for (const RigCamera& camera : c.rig) {
+            render(camera.intrinsics, (T_W_V * camera.T_V_C).inverse(), "image_" + camera.name,
+                   "semantic_" + camera.name);
+        }
+        return exposure;
+    }
+    for (int cam = 0; cam < c.options.cameras; ++cam) {
+        const int k = 2 + cam;
+        Isometry3d T_Ck_C0 = Isometry3d::Identity();
+        T_Ck_C0.translation() = cameraOffset(k);
+        const std::string kk = std::to_string(k);
+        render(kittiLikeIntrinsics(), T_Ck_C0 * c.frames.T_W_C0[f].inverse(), "image_" + kk,
+               "semantic_" + kk);
+    }
+    return exposure;
+}
+
+// Phase 6: vignetting.txt and exposure.txt.
+void writeImagingFiles(const std::filesystem::path& out_dir, const SimOptions& options,
+                       const std::vector<double>& exposure) {
+    std::ostringstream vig, exp;
+    vig << "# Radial vignetting applied to image_k (paper Sec. vignetting, Rohlfing 2012):\n"
+        << "# I_observed = I / g(r), g(r) = 1 + a r^2 + b r^4 + c r^6,\n"
+        << "# r = |(u,v) - (cx,cy)| / sqrt(cx^2 + cy^2), (cx,cy) = image centre\n"
+        << "# a b c\n"
+        << options.vignetting_abc[0] << " " << options.vignetting_abc[1] << " "
+        << options.vignetting_abc[2] << "\n";
+    writeText(out_dir / "vignetting.txt", vig.str());
+    exp << "# per-frame exposure gain multiplied into image_k (frame 0 = 1)\n"
+        << std::setprecision(9);
+    for (double e : exposure) exp << e << "\n";
+    writeText(out_dir / "exposure.txt", exp.str());
+}
+
+// Phase 7: gt/mesh.ply with face labels, gt/textured/mesh.obj, gt/observed_points.ply.
+void writeGroundTruth(const std::filesystem::path& out_dir, const SimScene& scene,
+                      std::vector<Vec3f> observed, SimSummary& summary) {
     TriMesh gt_mesh = scene.toTriMesh();
     gt_mesh.request_face_normals();
     gt_mesh.request_vertex_normals();
     gt_mesh.update_normals();
     const LabelSet label_set = LabelSet::defaults();
     std::vector<std::array<std::uint8_t, 3>> face_colors;
-    for (std::uint8_t l : labels) face_colors.push_back(label_set.color(l));
+    for (std::uint8_t l : scene.face_labels) face_colors.push_back(label_set.color(l));
     PlyWriteOptions ply;
-    ply.face_labels = &labels;
+    ply.face_labels = &scene.face_labels;
     ply.face_colors = &face_colors;
     writeMeshPly(out_dir / "gt" / "mesh.ply", gt_mesh, ply);
     scene.writeTexturedObj(out_dir / "gt" / "textured" / "mesh.obj");
@@ -303,13 +364,20 @@ SimSummary writeSimSequence(const SimOptions& options, const std::filesystem::pa
     writePlyPoints(out_dir / "gt" / "observed_points.ply", observed_cloud);
     summary.gt_faces = scene.numTriangles();
     summary.observed_points = observed_cloud.size();
+}
 
-    // Held-out views: camera 2 halfway between frames, no vignetting, no exposure change.
+// Phase 8: held-out views, camera 2 halfway between frames, no vignetting, no exposure change.
+void writeHeldOutViews(const std::filesystem::path& out_dir, const SimOptions& options,
+                       const SimScene& scene, const Raycaster& raycaster,
+                       const SimFrames& frames) {
+    const CameraIntrinsics K = kittiLikeIntrinsics();
+    const std::size_t n_frames = frames.size();
     std::vector<GtView> views;
     const std::size_t n_views = std::min(options.gt_views, n_frames > 1 ? n_frames - 1 : 0);
     for (std::size_t v = 0; v < n_views; ++v) {
         const std::size_t f = (v * (n_frames - 1)) / n_views;
-        const Isometry3d T_W_C0_mid = interpolatePose(T_W_C0[f], T_W_C0[f + 1], 0.5);
+        const Isometry3d T_W_C0_mid =
+            interpolatePose(frames.T_W_C0[f], frames.T_W_C0[f + 1], 0.5);
         Isometry3d T_C2_C0 = Isometry3d::Identity();
         T_C2_C0.translation() = cameraOffset(2);
         GtView view;
@@ -318,24 +386,27 @@ SimSummary writeSimSequence(const SimOptions& options, const std::filesystem::pa
         view.T_W_C = T_W_C0_mid * T_C2_C0.inverse();
         RenderOptions ro;
         ro.lambert = true;
-        const RenderedView r =
-            renderView({RenderLayer{&scene.mesh, &scene.textures, &raycaster, &labels}}, K,
-                       view.T_W_C.inverse(), ro);
+        const RenderedView r = renderView(
+            {RenderLayer{&scene.mesh, &scene.textures, &raycaster, &scene.face_labels}}, K,
+            view.T_W_C.inverse(), ro);
         writePng(out_dir / "gt" / "views" / view.image, r.color);
         views.push_back(view);
     }
     writeGtViews(out_dir / "gt" / "views", views);
+}
 
-    summary.seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+// Phase 9: gt/sim.json, what was simulated.
+void writeSimInfo(const std::filesystem::path& out_dir, const SimOptions& options,
+                  const std::vector<RigCamera>& rig, const LidarModel& lidar,
+                  const std::vector<std::size_t>& occluder_frames, const SimSummary& summary) {
     nlohmann::json info;
     info["scene"] = options.scene;
     info["seed"] = options.seed;
-    info["frames"] = n_frames;
+    info["frames"] = summary.frames;
     info["lidar"] = lidar.name;
     info["size_m"] = options.size_m;
     info["rig"] = options.rig;
-    if (surround) {
+    if (!rig.empty()) {
         info["cameras"] = nlohmann::json::array();
         for (const RigCamera& camera : rig) info["cameras"].push_back(camera.name);
         info["rig_image_px"] = {options.rig_options.width_px, options.rig_options.height_px};
@@ -345,13 +416,70 @@ SimSummary writeSimSequence(const SimOptions& options, const std::filesystem::pa
     }
     info["occluders"] = options.occluders;
     info["label_noise_px"] = options.label_noise_px;
+    info["lidar_labels"] = options.lidar_labels;
+    if (options.lidar_labels) {
+        info["lidar_label_ids"] = options.lidar_label_semantickitti_ids ? "semantickitti" : "ours";
+        info["lidar_label_flip_rate"] = options.lidar_label_flip_rate;
+        info["lidar_label_boundary_px"] = options.lidar_label_boundary_px;
+    }
     info["occluder_frames"] = occluder_frames;  // frames whose images show a pedestrian box
     info["vignetting_abc"] = options.vignetting_abc;
     info["lidar_points"] = summary.points;
     info["gt_faces"] = summary.gt_faces;
     info["observed_points"] = summary.observed_points;
-    info["observed_voxel_m"] = observed_voxel_m;
+    info["observed_voxel_m"] = ObservedPoints::kVoxelM;
     writeText(out_dir / "gt" / "sim.json", info.dump(2) + "\n");
+}
+
+}  // namespace
+
+SimSummary writeSimSequence(const SimOptions& options, const std::filesystem::path& out_dir) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::vector<RigCamera> rig = checkOptions(options);
+    SceneAndLidar built = buildScene(options);
+    SceneSetup& setup = built.setup;
+    const SimFrames frames = placeFrames(setup);
+    const std::size_t n_frames = frames.size();
+    const SimScene& scene = setup.scene;
+    const Raycaster raycaster(scene.mesh.positions, scene.triangleIndices());
+    logInfo("vdbmap-sim: scene '" + options.scene + "' with " +
+            std::to_string(scene.numTriangles()) + " triangles, " + std::to_string(n_frames) +
+            " frames, LiDAR " + built.lidar.name);
+
+    FrameContext context{options, out_dir, setup, built.lidar, raycaster, frames, rig,
+                         rig.empty() ? "velodyne" : "scans",
+                         options.lidar_labels ? "labels" : "", {}, {}};
+    const std::set<std::uint8_t> classes(scene.face_labels.begin(), scene.face_labels.end());
+    context.scene_classes.assign(classes.begin(), classes.end());
+    context.imaging.vignetting_abc = options.vignetting_abc;
+    context.imaging.label_noise_px = options.label_noise_px;
+    std::filesystem::create_directories(out_dir / context.scans_dir);
+    if (options.lidar_labels) std::filesystem::create_directories(out_dir / context.labels_dir);
+    std::filesystem::create_directories(out_dir / "gt" / "views");
+    std::filesystem::create_directories(out_dir / "gt" / "textured");
+    writeCalibration(out_dir, frames, rig, context.scans_dir, context.labels_dir,
+                     setup.frame_rate_hz);
+
+    SimSummary summary;
+    summary.frames = n_frames;
+    ObservedPoints observed;
+    std::vector<double> exposure(n_frames, 1.0);
+    std::vector<std::size_t> occluder_frames;
+    {
+        Progress progress("vdbmap-sim " + options.scene, n_frames, options.quiet);
+        for (std::size_t f = 0; f < n_frames; ++f) {
+            const std::uint64_t frame_seed = options.seed * 1000003ULL + f * 7919ULL + 17ULL;
+            writeFrameScan(context, f, frame_seed, summary, observed);
+            if (options.images) exposure[f] = writeFrameImages(context, f, frame_seed, occluder_frames);
+            progress.tick();
+        }
+    }
+    if (options.images) writeImagingFiles(out_dir, options, exposure);
+    writeGroundTruth(out_dir, scene, observed.take(), summary);
+    writeHeldOutViews(out_dir, options, scene, raycaster, frames);
+    summary.seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    writeSimInfo(out_dir, options, rig, built.lidar, occluder_frames, summary);
     return summary;
 }
 

@@ -41,6 +41,7 @@ struct LidarScan {
     PointCloud points_L;                 ///< returns in the LiDAR frame, intensity in 0..1
     std::vector<Vec3f> true_points_W;    ///< the noise-free surface points of the returns
     std::vector<std::uint32_t> faces;    ///< the hit triangle of each return
+    std::vector<std::uint32_t> rays;     ///< index of each return's ray in rayDirections()
 };
 
 /// Casts every ray of `model` from pose `T_W_L` against `scene` (parallel), adds Gaussian range

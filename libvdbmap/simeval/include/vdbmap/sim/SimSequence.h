@@ -25,6 +25,12 @@ struct SimOptions {
     SurroundRigOptions rig_options;  ///< image size, field of view, mounting of "surround"
     bool occluders = false;   ///< moving "pedestrian" boxes in some frames, images only
     int label_noise_px = 0;   ///< boundary jitter of semantic_2/3, pixels
+    /// Per-point LiDAR labels (SemanticKITTI .label): KITTI layout labels/, surround layout
+    /// labels/ with `labels_dir: labels` in dataset.yaml.
+    bool lidar_labels = true;
+    bool lidar_label_semantickitti_ids = true;  ///< raw SemanticKITTI ids, else our ids
+    double lidar_label_flip_rate = 0.0;  ///< probability that a point gets another scene class
+    int lidar_label_boundary_px = 0;     ///< boundary jitter in range-image pixels
     bool images = true;       ///< render image_k / semantic_k
     std::size_t gt_views = 4; ///< held-out views in gt/views (0 = none)
     std::filesystem::path spot_dir;  ///< folder with the Spot mesh ("" = street without Spot)
@@ -53,7 +59,8 @@ CameraIntrinsics kittiLikeIntrinsics();
 /// image_k/, semantic_k/). rig "surround": the generic layout (scans/*.bin, poses.txt with
 /// the LiDAR poses T_W_L as KITTI 3x4 lines, times.txt, image_<name>/, semantic_<name>/,
 /// calib_<name>.txt with K:, D:, T: lines, and dataset.yaml: the `dataset:` section that
-/// reads it, paths relative to the sequence). Both put the world W at KITTI camera 0 of frame
+/// reads it, paths relative to the sequence). Both write labels/NNNNNN.label (per-point LiDAR
+/// labels, SemanticKITTI format) unless lidar_labels is false. Both put the world W at KITTI camera 0 of frame
 /// 0, so the scans and gt/ of a seed are the same for both rigs. Deterministic for a seed.
 /// Throws ConfigError for bad options and IoError for write failures.
 SimSummary writeSimSequence(const SimOptions& options, const std::filesystem::path& out_dir);
