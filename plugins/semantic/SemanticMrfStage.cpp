@@ -18,8 +18,10 @@
 #include "vdbmap/map/Layers.h"
 #include "vdbmap/map/VoxelMap.h"
 #include "vdbmap/mesh/MeshAdjacency.h"
+#include "vdbmap/mesh/TileFaces.h"
 #include "vdbmap/pipeline/Context.h"
 #include "vdbmap/pipeline/Report.h"
+#include "vdbmap/pipeline/Tiling.h"
 #include "vdbmap/render/Raycaster.h"
 #include "vdbmap/render/Visibility.h"
 
@@ -143,14 +145,20 @@ void SemanticMrfStage::run(Context& ctx) {
         }
     }
 
-    const std::vector<View> views = datasetViews(dataset, false, true);
+    // The views of the tile in a tiled run (Context::views), else every view.
+    const std::vector<View> views = ctx.views(false, true);
+    if (views.empty() && ctx.hasTile()) {
+        logInfo(stage + ": no view sees tile " + ctx.tile().name() + ": not labelled");
+        report.stage(stage, "skipped", std::string("no view sees the tile"));
+        return;
+    }
     if (views.empty()) {
         fail(
             "the dataset has no semantic images (KITTI semantic_2 / semantic_3, or a camera's "
             "semantic_dir in the generic layout)");
     }
     const std::size_t expected_views = dataset.numFrames() * dataset.cameras().size();
-    if (views.size() < expected_views) {
+    if (!ctx.hasTile() && views.size() < expected_views) {
         logWarn(stage + ": " + std::to_string(expected_views - views.size()) + " of " +
                 std::to_string(expected_views) +
                 " frame x camera pairs have no semantic image and are skipped");
@@ -206,19 +214,33 @@ void SemanticMrfStage::run(Context& ctx) {
     const double t_mrf = step.elapsedSeconds();
     setFaceLabelProperty(mesh, result.face_labels);
 
-    // 4. Exports.
+    // 4. Exports (a tile writes its core faces only; the halo took part in the MRF).
     step.reset();
     const std::filesystem::path dir = ctx.outputDir() / output_subdir_;
     std::filesystem::create_directories(dir);
-    writeSemanticPly(dir / "mesh.ply", mesh, result.face_labels, labels);
-    if (write_obj_) writeSemanticObj(dir / "mesh.obj", mesh, result.face_labels, labels);
-    for (const int id : export_classes_) {
-        const auto cls = static_cast<std::uint8_t>(id);
-        const TriMesh part = extractClassMesh(mesh, result.face_labels, cls);
-        writeMeshPly(dir / classMeshFileName(cls, labels), part);
+    {
+        std::vector<std::uint32_t> core_faces;
+        const TriMesh core = ctx.hasTile() ? coreSubmesh(mesh, &core_faces) : TriMesh();
+        const TriMesh& out_mesh = ctx.hasTile() ? core : mesh;
+        std::vector<std::uint8_t> out_labels;
+        if (ctx.hasTile()) {
+            for (const std::uint32_t f : core_faces) out_labels.push_back(result.face_labels[f]);
+        }
+        const std::vector<std::uint8_t>& written = ctx.hasTile() ? out_labels : result.face_labels;
+        writeSemanticPly(dir / "mesh.ply", out_mesh, written, labels);
+        if (write_obj_) writeSemanticObj(dir / "mesh.obj", out_mesh, written, labels);
+        for (const int id : export_classes_) {
+            const auto cls = static_cast<std::uint8_t>(id);
+            const TriMesh part = extractClassMesh(out_mesh, written, cls);
+            writeMeshPly(dir / classMeshFileName(cls, labels), part);
+        }
     }
     if (label_grid_) {
         if (!ctx.hasMap()) fail("option 'label_grid' needs a map (an integrate stage before)");
+        if (ctx.hasTile()) {
+            fail("option 'label_grid' is not available in tiled runs yet (map.vdb is one file; "
+                 "the tiles would overwrite each other's grid)");
+        }
         VoxelMap& map = ctx.map();
         ctx.map().setExtraGrid("label", labelGrid(mesh, result.face_labels, *map.transform(),
                                                   static_cast<float>(label_grid_band_vox_)));
