@@ -65,10 +65,13 @@ std::string streetYaml(const std::string& extra_semantic, const std::string& til
            "    max_view_angle_deg: 88\n" + extra_semantic + tiling;
 }
 
-const fs::path& streetRoot() {
-    static const fs::path root = [] {
+/// A simulated street in its own folder per test case (ctest runs test cases in parallel).
+fs::path streetRoot(const std::string& test) {
+    static std::map<std::string, fs::path> roots;
+    if (roots.count(test)) return roots[test];
+    const fs::path root = [&] {
         setLogLevel(LogLevel::Warn);
-        const fs::path r = fs::path(VDBMAP_BINARY_DIR) / "test_scratch" / "tiled_pipeline";
+        const fs::path r = fs::path(VDBMAP_BINARY_DIR) / "test_scratch" / ("tiled_pipeline_" + test);
         fs::remove_all(r);
         SimOptions sim;
         sim.frames = 6;
@@ -78,13 +81,14 @@ const fs::path& streetRoot() {
         writeSimSequence(sim, r / "seq");
         return r;
     }();
+    roots[test] = root;
     return root;
 }
 
 }  // namespace
 
 TEST_CASE("A tiled run gives the untiled mesh and labels, tile by tile", "[tiles][pipeline]") {
-    const fs::path root = streetRoot();
+    const fs::path root = streetRoot("agree");
     // Small tiles (6.4 m, 32 voxels) so that most faces lie near a border. With a halo as wide
     // as the street, each tile's MRF sees everything and only the decomposition differs; with
     // a 2 m halo the Potts MRF is cut 2 m past the border (alpha-expansion reaches another
@@ -194,7 +198,7 @@ TEST_CASE("A tiled run gives the untiled mesh and labels, tile by tile", "[tiles
 
 TEST_CASE("A failing tile fails the run, names the tile and leaves no tiles.json",
           "[tiles][pipeline]") {
-    const fs::path root = streetRoot();
+    const fs::path root = streetRoot("failing");
     const fs::path out = root / "failing";
     fs::create_directories(out);
     std::ofstream(out / "tiles.json") << "{\"stale\": true}";  // an earlier run's index
