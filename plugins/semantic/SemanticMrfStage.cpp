@@ -174,7 +174,7 @@ void SemanticMrfStage::run(Context& ctx) {
     vis_options.occlusion_tolerance_m = occlusion_tolerance_m_;
     Visibility visibility;
     {
-        const Raycaster raycaster = Raycaster::fromMesh(mesh);
+        const Raycaster raycaster = Raycaster::fromMesh(ctx.occluderMesh());
         Progress progress(stage + " visibility", views.size(), ctx.quiet());
         visibility = computeVisibility(mesh, views, vis_options,
                                        occlusion_test_ ? &raycaster : nullptr, &progress);

@@ -204,7 +204,7 @@ void TextureMrfStage::run(Context& ctx) {
     vis_options.min_depth_m = min_depth_m_;
     vis_options.max_depth_m = max_depth_m_;
     vis_options.occlusion_test = occlusion_test_;
-    const Raycaster raycaster = Raycaster::fromMesh(tri_mesh);
+    const Raycaster raycaster = Raycaster::fromMesh(ctx.occluderMesh());
     const Visibility vis =
         computeVisibility(tri_mesh, views, vis_options, occlusion_test_ ? &raycaster : nullptr);
     const auto adjacency = faceAdjacency(tri_mesh);

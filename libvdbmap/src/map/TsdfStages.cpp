@@ -201,7 +201,16 @@ public:
         r.stage(s, "components_removed", stats.components_removed);
         r.stage(s, "faces_removed_small_components", stats.faces_removed_small_components);
         r.stage(s, "faces_rejected_nonmanifold", stats.faces_rejected_nonmanifold);
-        if (ctx.hasTile()) r.stage(s, "halo_faces", stats.halo_faces);
+        if (ctx.hasTile()) {
+            r.stage(s, "halo_faces", stats.halo_faces);
+            // Occluders beyond the halo: visibility tests see what hides the tile from a view.
+            const MeshRegion& occ = ctx.tile().occluder_region;
+            if (occ.halo_vox > ctx.tile().region.halo_vox) {
+                MeshStats occ_stats;
+                ctx.setOccluderMesh(extractMeshRegion(ctx.map(), config_, occ, &occ_stats));
+                r.stage(s, "occluder_faces", occ_stats.faces);
+            }
+        }
         r.stage(s, "seconds", timer.elapsedSeconds());
     }
 

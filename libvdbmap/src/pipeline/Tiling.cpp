@@ -39,6 +39,10 @@ void TilingConfig::declareOptions(OptionSpec& spec) {
     spec.add("max_view_distance_m",
              "A view is given to a tile only if the tile lies within this distance of the camera",
              max_view_distance_m, 60.0, "m");
+    spec.add("occluder_margin_m",
+             "Mesh this far around a tile is an occluder in its visibility tests (never written; "
+             "0 or less than halo_m = the halo only)",
+             occluder_margin_m, 30.0, "m");
     spec.add("merge",
              "Also write the single mesh.ply / textured / semantic outputs of an untiled run "
              "(runs the mesh stages once more on the whole map; skipped above merge_max_faces)",
@@ -60,6 +64,9 @@ void TilingConfig::validate(double voxel_size_m, const std::string& where) const
     }
     if (!std::isfinite(max_view_distance_m) || !(max_view_distance_m > 0.0)) {
         badValue(where, "max_view_distance_m", max_view_distance_m, "must be finite and > 0");
+    }
+    if (!std::isfinite(occluder_margin_m) || occluder_margin_m < 0.0) {
+        badValue(where, "occluder_margin_m", occluder_margin_m, "must be finite and >= 0");
     }
     if (merge_max_faces < 0) {
         badValue(where, "merge_max_faces", static_cast<double>(merge_max_faces), "must be >= 0");
@@ -103,6 +110,8 @@ TileGrid::TileGrid(const TilingConfig& config, double voxel_size_m, int up_axis)
     const double leaves = std::round(config.tile_size_m / (kLeafVoxels * voxel_size_m));
     tile_vox_ = kLeafVoxels * std::max<std::int32_t>(1, static_cast<std::int32_t>(leaves));
     halo_vox_ = static_cast<std::int32_t>(std::ceil(config.halo_m / voxel_size_m - 1e-9));
+    occluder_vox_ = std::max(halo_vox_, static_cast<std::int32_t>(
+                                            std::ceil(config.occluder_margin_m / voxel_size_m - 1e-9)));
 }
 
 Tile TileGrid::makeTile(int ix, int iy, double z_min_m, double z_max_m) const {
@@ -118,6 +127,8 @@ Tile TileGrid::makeTile(int ix, int iy, double z_min_m, double z_max_m) const {
     t.region.core_max[0] = (ix + 1) * tile_vox_;
     t.region.core_max[1] = (iy + 1) * tile_vox_;
     t.region.halo_vox = halo_vox_;
+    t.occluder_region = t.region;
+    t.occluder_region.halo_vox = occluder_vox_;
     // A cube with min corner c spans [c, c + 1] voxels, the voxel centres being at c * vs.
     const double vs = voxel_size_m_;
     const double h = halo_vox_ * vs;

@@ -59,6 +59,11 @@ public:
     std::shared_ptr<const TriMesh> meshPtr() const { return mesh_; }
     void setMesh(std::shared_ptr<TriMesh> mesh) { mesh_ = std::move(mesh); }
 
+    /// The mesh visibility tests should use as occluder: in a tiled run the tile's mesh grown by
+    /// tiling.occluder_margin_m (geometry outside the tile still hides it), else mesh().
+    const TriMesh& occluderMesh() const { return occluder_ ? *occluder_ : mesh(); }
+    void setOccluderMesh(std::shared_ptr<const TriMesh> mesh) { occluder_ = std::move(mesh); }
+
     /// True in the per-tile contexts of a tiled run.
     bool hasTile() const { return tile_ != nullptr; }
     /// The tile (key, core and halo bounds in W, assigned views). Throws Error if untiled.
@@ -85,6 +90,7 @@ private:
     std::shared_ptr<VoxelMap> map_;
     std::shared_ptr<TriMesh> mesh_;
     std::shared_ptr<const Tile> tile_;
+    std::shared_ptr<const TriMesh> occluder_;
 };
 
 }  // namespace vdbmap

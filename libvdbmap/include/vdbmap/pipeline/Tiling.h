@@ -22,6 +22,8 @@ struct TilingConfig {
     double tile_size_m = 0.0;           ///< tile edge; 0 = untiled
     double halo_m = 4.0;                ///< border of neighbouring mesh each tile sees
     double max_view_distance_m = 60.0;  ///< a view is given to a tile only within this distance
+    /// Mesh around the tile (beyond the halo) used only as occluder by visibility tests.
+    double occluder_margin_m = 30.0;
     bool merge = false;                 ///< also write today's single outputs (when they fit)
     std::int64_t merge_max_faces = 4000000;  ///< merge only up to this many faces
     /// The world axis that points up; tiles cut the other two. "auto": the W axis closest to
@@ -43,6 +45,7 @@ struct TilingConfig {
 struct Tile {
     int ix = 0, iy = 0;
     MeshRegion region;        ///< voxel coordinates of cube min corners, ground axes
+    MeshRegion occluder_region;  ///< region + occluder margin (halo_vox = the margin)
     double voxel_size_m = 0;
     int up_axis = 2;          ///< 0 = x, 1 = y, 2 = z
     Box3d core_W;             ///< ground axes: the core; up axis: the map's observed range
@@ -85,6 +88,7 @@ private:
     int axes_[2];
     std::int32_t tile_vox_;
     std::int32_t halo_vox_;
+    std::int32_t occluder_vox_;
 };
 
 }  // namespace vdbmap
