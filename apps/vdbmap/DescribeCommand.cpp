@@ -10,6 +10,7 @@
 #include "vdbmap/core/Log.h"
 #include "vdbmap/core/OptionSpec.h"
 #include "vdbmap/io/Dataset.h"
+#include "vdbmap/pipeline/Tiling.h"
 #include "vdbmap/pipeline/Pipeline.h"
 #include "vdbmap/pipeline/StageRegistry.h"
 #include "vdbmap/plugin/PluginLoader.h"
@@ -105,6 +106,19 @@ int describe(const DescribeArgs& args) {
         printSpec(spec);
         return 0;
     }
+    if (args.what == "tiling") {
+        vdbmap::TilingConfig config;
+        vdbmap::OptionSpec spec;
+        config.declareOptions(spec);
+        std::cout << "tiling  [pipeline section `tiling:`]\n"
+                  << "  Square ground tiles: the stages from the first one that reads or writes the\n"
+                  << "  mesh run once per tile, on its mesh plus a halo, into tiles/<ix>_<iy>/;\n"
+                  << "  tiles.json indexes them (README: tiled outputs). A tile smaller than one\n"
+                  << "  voxel leaf (8 voxels) or a negative halo is a config error.\n";
+        printSpec(spec);
+        std::cout << "  e.g.\n    tiling: {tile_size_m: 64, halo_m: 4, max_view_distance_m: 60}\n";
+        return 0;
+    }
     loadPlugins(args.plugins);
     const auto entries = vdbmap::StageRegistry::instance().entries();
     if (!args.what.empty()) {
@@ -118,7 +132,7 @@ int describe(const DescribeArgs& args) {
         vdbmap::StageRegistry::instance().create(args.what);
         return 2;
     }
-    std::cout << "Pipeline sections: dataset, output (see `vdbmap describe dataset`).\n"
+    std::cout << "Pipeline sections: dataset, output, tiling (see `vdbmap describe dataset`).\n"
               << "Registered stages (" << entries.size() << "):\n\n";
     for (const auto& entry : entries) printStage(entry);
     return 0;
@@ -130,7 +144,7 @@ void addDescribeCommand(CLI::App& app, int& exit_code) {
     auto args = std::make_shared<DescribeArgs>();
     CLI::App* cmd = app.add_subcommand(
         "describe", "List the stages and every option (key, type, default, unit, doc)");
-    cmd->add_option("what", args->what, "A stage name, or `dataset` / `output` for those sections");
+    cmd->add_option("what", args->what, "A stage name, or `dataset` / `output` / `tiling` for those sections");
     cmd->add_option("--plugin", args->plugins,
                     "Load these plugins (name or path) instead of every plugin found")
         ->allow_extra_args(false);

@@ -4,5 +4,6 @@
 #include <vdbmap/plugin/Plugin.h>
 
 #include "GreetStage.h"
+#include "TileSummaryStage.h"
 
-VDBMAP_PLUGIN("template", vdbmap_template::GreetStage)
+VDBMAP_PLUGIN("template", vdbmap_template::GreetStage, vdbmap_template::TileSummaryStage)

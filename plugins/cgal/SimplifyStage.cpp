@@ -34,6 +34,11 @@ void SimplifyStage::declareLayers(LayerSpec& spec) const {
 }
 
 void SimplifyStage::run(Context& ctx) {
+    if (ctx.hasTile()) {
+        // Edge collapses would move the shared border of two tiles differently in each.
+        fail("does not run in tiled runs yet (it would open cracks at tile borders); remove "
+             "the `tiling:` section or this stage");
+    }
     Timer timer;
     const SimplifyResult r = simplifyMesh(ctx.mesh(), {target_ratio_, max_error_m_});
     const std::string stage(name());

@@ -24,8 +24,10 @@
 #include "vdbmap/map/Layers.h"
 #include "vdbmap/map/VoxelMap.h"
 #include "vdbmap/mesh/MeshAdjacency.h"
+#include "vdbmap/mesh/TileFaces.h"
 #include "vdbmap/pipeline/Context.h"
 #include "vdbmap/pipeline/Report.h"
+#include "vdbmap/pipeline/Tiling.h"
 #include "vdbmap/render/VisibilitySetup.h"
 
 namespace vdbmap::semantic {
@@ -258,21 +260,27 @@ static ImageVotes imageVotes(const SemanticMrfStage& stage, Context& ctx,
     const Dataset& dataset = ctx.dataset();
     const std::string name(stage.name());
     ImageVotes out;
-    const std::vector<View> views = datasetViews(dataset, false, true);
+    // The views of the tile in a tiled run (Context::views), else every view.
+    const std::vector<View> views = ctx.views(false, true);
+    if (views.empty() && ctx.hasTile()) {
+        logInfo(name + ": no view sees tile " + ctx.tile().name() + ": no image votes");
+        return out;
+    }
     if (views.empty()) {
         failIn(stage, 
             "the dataset has no semantic images (KITTI semantic_2 / semantic_3, or a camera's "
             "semantic_dir in the generic layout); set image_votes: false for LiDAR labels only");
     }
     const std::size_t expected_views = dataset.numFrames() * dataset.cameras().size();
-    if (views.size() < expected_views) {
+    if (!ctx.hasTile() && views.size() < expected_views) {
         logWarn(name + ": " + std::to_string(expected_views - views.size()) + " of " +
                 std::to_string(expected_views) +
                 " frame x camera pairs have no semantic image and are skipped");
     }
     Timer step;
     Visibility visibility =
-        meshVisibility(ctx.mesh(), views, vis_options, name + " visibility", ctx.quiet());
+        meshVisibility(ctx.mesh(), views, vis_options, name + " visibility", ctx.quiet(),
+                       &ctx.occluderMesh());
     out.visibility_s = step.elapsedSeconds();
 
     step.reset();
@@ -429,19 +437,38 @@ void SemanticMrfStage::run(Context& ctx) {
     const double t_mrf = step.elapsedSeconds();
     setFaceLabelProperty(mesh, result.face_labels);
 
-    // 3. Exports.
+    // 3. Exports (a tile writes its core faces only; the halo took part in the MRF).
     step.reset();
     const std::filesystem::path dir = ctx.outputDir() / output_subdir_;
     std::filesystem::create_directories(dir);
-    writeSemanticPly(dir / "mesh.ply", mesh, result.face_labels, labels, &result.confidence);
-    if (write_obj_) writeSemanticObj(dir / "mesh.obj", mesh, result.face_labels, labels);
-    for (const int id : export_classes_) {
-        const auto cls = static_cast<std::uint8_t>(id);
-        const TriMesh part = extractClassMesh(mesh, result.face_labels, cls);
-        writeMeshPly(dir / classMeshFileName(cls, labels), part);
+    {
+        std::vector<std::uint32_t> core_faces;
+        const TriMesh core = ctx.hasTile() ? coreSubmesh(mesh, &core_faces) : TriMesh();
+        const TriMesh& out_mesh = ctx.hasTile() ? core : mesh;
+        std::vector<std::uint8_t> out_labels;
+        std::vector<float> out_confidence;
+        if (ctx.hasTile()) {
+            for (const std::uint32_t f : core_faces) {
+                out_labels.push_back(result.face_labels[f]);
+                out_confidence.push_back(result.confidence[f]);
+            }
+        }
+        const std::vector<std::uint8_t>& written = ctx.hasTile() ? out_labels : result.face_labels;
+        const std::vector<float>& confidence = ctx.hasTile() ? out_confidence : result.confidence;
+        writeSemanticPly(dir / "mesh.ply", out_mesh, written, labels, &confidence);
+        if (write_obj_) writeSemanticObj(dir / "mesh.obj", out_mesh, written, labels);
+        for (const int id : export_classes_) {
+            const auto cls = static_cast<std::uint8_t>(id);
+            const TriMesh part = extractClassMesh(out_mesh, written, cls);
+            writeMeshPly(dir / classMeshFileName(cls, labels), part);
+        }
     }
     if (label_grid_) {
         if (!ctx.hasMap()) fail("option 'label_grid' needs a map (an integrate stage before)");
+        if (ctx.hasTile()) {
+            fail("option 'label_grid' is not available in tiled runs yet (map.vdb is one file; "
+                 "the tiles would overwrite each other's grid)");
+        }
         VoxelMap& map = ctx.map();
         ctx.map().setExtraGrid(grids::kLabel, labelGrid(mesh, result.face_labels, *map.transform(),
                                                   static_cast<float>(label_grid_band_vox_)));

@@ -14,11 +14,45 @@
 #include "vdbmap/mrf/PottsMrf.h"
 #include "vdbmap/pipeline/Context.h"
 #include "vdbmap/pipeline/Report.h"
+#include "vdbmap/pipeline/Tiling.h"
 #include "vdbmap/render/Raycaster.h"
 #include "vdbmap/render/Visibility.h"
 #include "vdbmap/render/VisibilitySetup.h"
 
 namespace vdbmap::texture {
+
+namespace {
+
+/// The core faces of a tile's mesh and their texture (tiled runs write only the faces a tile
+/// owns; halo faces took part in the MRF and the seam levelling). Unused vertices are dropped.
+void keepCoreFaces(const std::vector<std::uint8_t>& halo, MeshArrays& mesh, TextureResult& tex) {
+    std::vector<std::int64_t> vertex_map(mesh.vertices_W.size(), -1);
+    MeshArrays core;
+    std::size_t kept = 0;
+    for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+        if (halo[f]) continue;
+        std::array<std::uint32_t, 3> face{};
+        for (int k = 0; k < 3; ++k) {
+            std::int64_t& v = vertex_map[mesh.faces[f][static_cast<std::size_t>(k)]];
+            if (v < 0) {
+                v = static_cast<std::int64_t>(core.vertices_W.size());
+                core.vertices_W.push_back(mesh.vertices_W[mesh.faces[f][static_cast<std::size_t>(k)]]);
+            }
+            face[static_cast<std::size_t>(k)] = static_cast<std::uint32_t>(v);
+        }
+        core.faces.push_back(face);
+        tex.face_uvs[kept] = tex.face_uvs[f];
+        tex.face_page[kept] = tex.face_page[f];
+        tex.face_view[kept] = tex.face_view[f];
+        ++kept;
+    }
+    tex.face_uvs.resize(kept);
+    tex.face_page.resize(kept);
+    tex.face_view.resize(kept);
+    mesh = std::move(core);
+}
+
+}  // namespace
 
 void TextureMrfStage::declareOptions(OptionSpec& spec) {
     spec.add("mrf", "View selection by the Potts MRF (alpha-expansion); false = per-face best view",
@@ -218,7 +252,13 @@ void TextureMrfStage::run(Context& ctx) {
 
     const MeshArrays mesh = meshArrays(tri_mesh);
     if (mesh.faces.empty()) fail("the mesh has no faces: nothing to texture");
-    const std::vector<View> views = datasetViews(dataset, true, false);
+    // The views of the tile in a tiled run (Context::views), else every view.
+    const std::vector<View> views = ctx.views(true, false);
+    if (views.empty() && ctx.hasTile()) {
+        logInfo(stage + ": no view sees tile " + ctx.tile().name() + ": not textured");
+        report.stage(stage, "skipped", std::string("no view sees the tile"));
+        return;
+    }
     if (views.empty()) fail("the dataset has no colour images: nothing to texture from");
 
     Timer step;
@@ -228,7 +268,8 @@ void TextureMrfStage::run(Context& ctx) {
     vis_options.max_depth_m = max_depth_m_;
     vis_options.occlusion_test = occlusion_test_;
     const Visibility vis =
-        meshVisibility(tri_mesh, views, vis_options, stage + " visibility", ctx.quiet());
+        meshVisibility(tri_mesh, views, vis_options, stage + " visibility", ctx.quiet(),
+                       &ctx.occluderMesh());
     const auto adjacency = faceAdjacency(tri_mesh);
     const double visibility_s = step.elapsedSeconds();
     report.set({"stages", stage, "timings_s", "visibility"}, visibility_s);
@@ -242,13 +283,16 @@ void TextureMrfStage::run(Context& ctx) {
         }
         return readColorImage(*path);
     };
-    const TextureResult result = textureMesh(mesh, views, vis, adjacency, load, options);
-
-    step.reset();
-    writeTexturedMesh(ctx.outputDir() / output_subdir_, mesh, result);
-    const double export_s = step.elapsedSeconds();
+    TextureResult result = textureMesh(mesh, views, vis, adjacency, load, options);
 
     setTextureLayer(tri_mesh, result);
+
+    // A tile writes its core faces only; the halo took part in the MRF and the seam levelling.
+    step.reset();
+    MeshArrays written = mesh;
+    if (ctx.hasTile()) keepCoreFaces(ctx.haloFaces(), written, result);
+    writeTexturedMesh(ctx.outputDir() / output_subdir_, written, result);
+    const double export_s = step.elapsedSeconds();
 
     const double total_s = total.elapsedSeconds();
     reportStats(report, result.stats, export_s, total_s);

@@ -30,6 +30,31 @@ export VDBMAP_PLUGIN_PATH=$(dirname "$plugin")
 test "$(grep -c 'Hello from the template plugin' "$work/run/greetings.txt")" -eq 3
 grep -q '"template.greet"' "$work/run/report.json"
 
+# The template's mesh stage through the tile API: a tiled run on a tiny simulated street.
+"$build_dir/bin/vdbmap-sim" street -o "$work/seq" --frames 2 --size 20 --gt-views 0 --quiet \
+    --threads 1
+"$prefix/bin/vdbmap" run "$source_dir/examples/plugin_template/tiles.yaml" \
+    --set dataset.path="$work/seq" -o "$work/tiles" --quiet
+test -s "$work/tiles/tiles.json"
+summaries=$(find "$work/tiles/tiles" -name summary.json | wc -l)
+test "$summaries" -ge 2 || { echo "expected a summary.json per tile, got $summaries"; exit 1; }
+python3 - "$work/tiles" <<'CHECK'
+import json, os, sys
+out = sys.argv[1]
+index = json.load(open(os.path.join(out, "tiles.json")))
+faces = 0
+read = 0
+for t in index["tiles"]:
+    s = json.load(open(os.path.join(out, "tiles", t["name"], "summary.json")))
+    assert s["tile"] == t["name"], s
+    assert s["core_faces"] == t["counts"]["faces"], (s, t)
+    assert s["views"] == t["counts"]["views"], (s, t)
+    faces += s["core_faces"]
+    read += s["images_read"]
+assert faces == index["counts"]["faces"] > 0, index["counts"]
+assert read > 0, "no tile read an image"
+CHECK
+
 # The relocated install also finds its own plugins (<exe>/../lib/vdbmap/plugins).
 unset VDBMAP_PLUGIN_PATH
 mkdir -p "$prefix/lib/vdbmap/plugins"

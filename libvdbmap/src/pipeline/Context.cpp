@@ -1,9 +1,14 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "vdbmap/pipeline/Context.h"
 
+#include <algorithm>
+
 #include "vdbmap/Error.h"
+#include "vdbmap/io/AtomicFile.h"
 #include "vdbmap/io/Dataset.h"
 #include "vdbmap/map/VoxelMap.h"
+#include "vdbmap/mesh/TileFaces.h"
+#include "vdbmap/pipeline/Tiling.h"
 
 namespace vdbmap {
 
@@ -11,6 +16,21 @@ Context::Context(std::filesystem::path output_dir, Report& report, bool quiet)
     : output_dir_(std::move(output_dir)), report_(report), quiet_(quiet) {}
 
 Context::~Context() = default;
+
+void Context::writeOutput(const std::filesystem::path& relative_path,
+                          std::string_view content) const {
+    const bool up = std::any_of(relative_path.begin(), relative_path.end(),
+                                [](const std::filesystem::path& part) { return part == ".."; });
+    if (relative_path.empty() || relative_path.is_absolute() || up) {
+        throw InvalidInput("Context::writeOutput: '" + relative_path.string() +
+                           "' is not a path inside the output folder");
+    }
+    const std::filesystem::path path = output_dir_ / relative_path;
+    std::error_code ec;
+    std::filesystem::create_directories(path.parent_path(), ec);
+    if (ec) throw IoError(path.parent_path().string() + ": cannot create folder: " + ec.message());
+    writeFileAtomically(path, content);
+}
 
 const Dataset& Context::dataset() const {
     if (!dataset_) throw Error("Context: the pipeline has no dataset section");
@@ -22,9 +42,44 @@ VoxelMap& Context::map() {
     return *map_;
 }
 
+const VoxelMap& Context::map() const { return const_cast<Context*>(this)->map(); }
+
 TriMesh& Context::mesh() {
     if (!mesh_) throw Error("Context: no stage has created a mesh (add mesh.marching_cubes)");
     return *mesh_;
 }
+
+const TriMesh& Context::mesh() const { return const_cast<Context*>(this)->mesh(); }
+
+const Tile& Context::tile() const {
+    if (!tile_) throw Error("Context: this run is not tiled (no `tiling:` section)");
+    return *tile_;
+}
+
+std::unique_ptr<Context> Context::tileContext(std::filesystem::path tile_dir, Report& tile_report,
+                                              std::shared_ptr<const Tile> tile) {
+    auto out = std::make_unique<Context>(std::move(tile_dir), tile_report, quiet_);
+    out->dataset_ = dataset_;
+    out->map_ = map_;
+    out->tile_ = std::move(tile);
+    return out;
+}
+
+std::vector<View> Context::views(bool need_images, bool need_semantics) const {
+    std::vector<View> views = datasetViews(dataset(), need_images, need_semantics);
+    if (!tile_) return views;
+    // Both lists are ordered by (frame, camera).
+    const auto& assigned = tile_->views;
+    views.erase(std::remove_if(views.begin(), views.end(),
+                               [&](const View& v) {
+                                   return !std::binary_search(
+                                       assigned.begin(), assigned.end(),
+                                       std::make_pair(v.frame, v.camera));
+                               }),
+                views.end());
+    return views;
+}
+
+std::vector<std::uint8_t> Context::haloFaces() const { return haloFaceMask(mesh()); }
 
 }  // namespace vdbmap

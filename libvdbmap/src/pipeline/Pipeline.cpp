@@ -13,6 +13,7 @@
 #include "pipeline/PipelineImpl.h"
 #include "pipeline/YamlOptions.h"
 #include "vdbmap/Error.h"
+#include "vdbmap/map/Layers.h"
 #include "vdbmap/pipeline/StageRegistry.h"
 #include "vdbmap/plugin/PluginLoader.h"
 #include "vdbmap/map/Layers.h"
@@ -24,7 +25,7 @@ namespace {
 
 /// One `--set path=value`, split into its target section and key.
 struct Override {
-    enum class Target { Dataset, Output, StageIndex, StageName } target;
+    enum class Target { Dataset, Output, Tiling, StageIndex, StageName } target;
     std::size_t index = 0;   ///< for StageIndex (after resolving StageName too)
     std::string remainder;   ///< "integrate.atsdf.voxel_size_m" before the stage name is known
     std::string key;
@@ -48,6 +49,9 @@ Override parseOverride(const std::string& text) {
         o.key = path.substr(8);
     } else if (startsWith("output.")) {
         o.target = Override::Target::Output;
+        o.key = path.substr(7);
+    } else if (startsWith("tiling.")) {
+        o.target = Override::Target::Tiling;
         o.key = path.substr(7);
     } else if (startsWith("stages.")) {
         const std::string rest = path.substr(7);
@@ -95,7 +99,7 @@ void resolveStageNames(std::vector<Override>& overrides, const std::vector<std::
             std::string list;
             for (const auto& name : names) list += (list.empty() ? "" : ", ") + name;
             throw ConfigError("--set '" + o.text +
-                              "': unknown path; use dataset.<key>, output.<key>, "
+                              "': unknown path; use dataset.<key>, output.<key>, tiling.<key>, "
                               "stages.<index>.<key> or <stage>.<key> with a stage of this "
                               "pipeline (" + list + ")");
         }
@@ -258,6 +262,15 @@ std::unique_ptr<Pipeline> Pipeline::fromString(const std::string& yaml_text,
     detail::bindEntries(p.output_spec, output_entries, "output",
                         output.IsDefined() ? detail::yamlLocation(src, output) : src);
 
+    const YAML::Node tiling = root["tiling"];
+    p.tiling.declareOptions(p.tiling_spec);
+    auto tiling_entries = detail::yamlMapEntries(tiling, src, "tiling");
+    for (const auto& o : overrides) {
+        if (o.target == Override::Target::Tiling) applyOverride(tiling_entries, o);
+    }
+    const std::string tiling_where = tiling.IsDefined() ? detail::yamlLocation(src, tiling) : src;
+    detail::bindEntries(p.tiling_spec, tiling_entries, "tiling", tiling_where);
+
     for (auto& ps : p.stages) {
         try {
             ps.stage->initialize();
@@ -274,6 +287,16 @@ std::unique_ptr<Pipeline> Pipeline::fromString(const std::string& yaml_text,
     std::vector<std::string> dataset_layers;
     if (p.has_dataset) dataset_layers = {layers::kScans, layers::kImages, layers::kSemanticImages};
     pipeline->checkLayers(dataset_layers);
+    // The voxel size, when a stage before the tiled ones declares it (run() checks the map's).
+    double voxel_size_m = 0.0;
+    for (std::size_t i = 0; i < std::min(p.stages.size(), pipeline->firstTiledStage()); ++i) {
+        if (const OptionInfo* info = p.stages[i].spec.find("voxel_size_m")) {
+            const OptionValue value = currentValue(*info);
+            if (const double* v = std::get_if<double>(&value)) voxel_size_m = *v;
+        }
+    }
+    p.tiling.validate(voxel_size_m, tiling_where);
+    p.tiling_where = tiling_where;
     return pipeline;
 }
 
@@ -315,6 +338,19 @@ std::vector<std::string> Pipeline::stageNames() const {
 bool Pipeline::hasDataset() const { return impl_->has_dataset; }
 const DatasetConfig& Pipeline::datasetConfig() const { return impl_->dataset; }
 const OutputConfig& Pipeline::outputConfig() const { return impl_->output; }
+const TilingConfig& Pipeline::tilingConfig() const { return impl_->tiling; }
+
+std::size_t Pipeline::firstTiledStage() const {
+    const Impl& p = *impl_;
+    for (std::size_t i = 0; i < p.stages.size(); ++i) {
+        const LayerSpec& l = p.stages[i].layers;
+        auto has = [](const std::vector<std::string>& v) {
+            return std::find(v.begin(), v.end(), std::string(layers::kMesh)) != v.end();
+        };
+        if (has(l.readLayers()) || has(l.writtenLayers())) return i;
+    }
+    return p.stages.size();
+}
 const std::vector<fs::path>& Pipeline::pluginFiles() const { return impl_->plugin_files; }
 
 std::string Pipeline::resolvedConfigJson() const {
@@ -335,6 +371,7 @@ std::string Pipeline::resolvedConfigJson() const {
     }
     config["stages"] = stages;
     config["output"] = specToJson(p.output_spec);
+    config["tiling"] = specToJson(p.tiling_spec);
     config["overrides"] = p.overrides;
     return config.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }

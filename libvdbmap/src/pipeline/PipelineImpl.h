@@ -11,6 +11,7 @@
 #include "vdbmap/pipeline/LayerSpec.h"
 #include "vdbmap/pipeline/Pipeline.h"
 #include "vdbmap/pipeline/Stage.h"
+#include "vdbmap/pipeline/Tiling.h"
 
 namespace vdbmap {
 
@@ -31,6 +32,9 @@ struct Pipeline::Impl {
     OptionSpec dataset_spec;
     OutputConfig output;
     OptionSpec output_spec;
+    TilingConfig tiling;
+    OptionSpec tiling_spec;
+    std::string tiling_where;  ///< "file:line:col" of `tiling:` (or the file)
     std::vector<std::string> plugin_specs;
     std::vector<std::filesystem::path> plugin_files;
     std::vector<std::string> overrides;
@@ -42,6 +46,21 @@ namespace detail {
 std::vector<std::string> datasetLayers(const Dataset& dataset);
 /// Writes map.vdb / mesh.ply as `output` says and adds their counts to the report.
 void writePipelineOutputs(class Context& ctx, const OutputConfig& output, Report& report);
+
+/// Runs stage `index` (of `count`) in `ctx`: logs, times it into ctx.report()
+/// (stages.<name>.wall_time_s; `timings` gets an entry if given). `current` names it.
+void runStage(PipelineStage& ps, std::size_t index, std::size_t count, class Context& ctx,
+              std::string& current, std::string* timings_json);
+
+/// The tiled part of a run: stages[first..] once per tile of ctx's map into
+/// <outputDir>/tiles/<ix>_<iy>/, each tile written and freed when done; per-tile and total
+/// figures go into `report` ("tiles", "tiling"). With tiling.merge (and few enough faces) the
+/// same stages then run once untiled in ctx. Returns the text of tiles.json, which the caller
+/// writes last. Errors are rethrown with "tile <ix>_<iy>: " in front, same type.
+std::string runTiledStages(std::vector<PipelineStage>& stages, std::size_t first,
+                           const TilingConfig& tiling, const std::string& tiling_where,
+                           const OutputConfig& output, class Context& ctx, Report& report,
+                           std::string& current);
 }  // namespace detail
 
 }  // namespace vdbmap

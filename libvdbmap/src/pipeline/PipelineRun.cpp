@@ -8,6 +8,7 @@
 #include "vdbmap/Error.h"
 #include "vdbmap/core/Log.h"
 #include "vdbmap/core/Timer.h"
+#include "vdbmap/io/AtomicFile.h"
 #include "vdbmap/pipeline/Context.h"
 #include "vdbmap/pipeline/Report.h"
 #include "vdbmap/map/Layers.h"
@@ -35,6 +36,31 @@ std::string formatSeconds(double s) {
 }  // namespace
 
 namespace detail {
+
+void runStage(PipelineStage& ps, std::size_t index, std::size_t count, Context& ctx,
+              std::string& current, std::string* timings_json) {
+    Stage& stage = *ps.stage;
+    Report& report = ctx.report();
+    current = std::string(stage.name());
+    const std::string where = ctx.hasTile() ? " [tile " + ctx.tile().name() + "]" : "";
+    logInfo("[" + std::to_string(index + 1) + "/" + std::to_string(count) + "] " + current + where);
+    Timer timer;
+    try {
+        stage.run(ctx);
+    } catch (...) {
+        report.set({"stages", current, "wall_time_s"}, timer.elapsedSeconds());
+        throw;
+    }
+    const double seconds = timer.elapsedSeconds();
+    report.set({"stages", current, "wall_time_s"}, seconds);
+    if (timings_json) {
+        nlohmann::json timings = nlohmann::json::parse(*timings_json);
+        timings.push_back({{"index", index}, {"stage", current}, {"wall_time_s", seconds}});
+        *timings_json = timings.dump();
+        report.setJson({"timings", "stages"}, *timings_json);
+    }
+    logInfo(current + where + " done in " + formatSeconds(seconds));
+}
 
 std::vector<std::string> datasetLayers(const Dataset& dataset) {
     std::vector<std::string> layers{layers::kScans};
@@ -96,27 +122,30 @@ void Pipeline::run(const fs::path& output_dir, Report& report, bool quiet) {
             report.set({"timings", "dataset_open_s"}, timer.elapsedSeconds());
             ctx.setDataset(std::move(dataset));
         }
-        nlohmann::json timings = nlohmann::json::array();
-        for (std::size_t i = 0; i < p.stages.size(); ++i) {
-            Stage& stage = *p.stages[i].stage;
-            current = std::string(stage.name());
-            logInfo("[" + std::to_string(i + 1) + "/" + std::to_string(p.stages.size()) + "] " +
-                    current);
-            Timer timer;
-            try {
-                stage.run(ctx);
-            } catch (...) {
-                report.set({"stages", current, "wall_time_s"}, timer.elapsedSeconds());
-                throw;
-            }
-            const double seconds = timer.elapsedSeconds();
-            report.set({"stages", current, "wall_time_s"}, seconds);
-            timings.push_back({{"index", i}, {"stage", current}, {"wall_time_s", seconds}});
-            report.setJson({"timings", "stages"}, timings.dump());
-            logInfo(current + " done in " + formatSeconds(seconds));
+        const bool tiled = p.tiling.enabled() && firstTiledStage() < p.stages.size();
+        if (p.tiling.enabled() && !tiled) {
+            logWarn("tiling: no stage works on the mesh layer; the run is not tiled");
+        }
+        // A tiles.json of an earlier run in this folder must not outlive a failure of this one.
+        std::error_code rm_ec;
+        fs::remove(output_dir / "tiles.json", rm_ec);
+        const std::size_t untiled_end = tiled ? firstTiledStage() : p.stages.size();
+        std::string timings = "[]";
+        for (std::size_t i = 0; i < untiled_end; ++i) {
+            detail::runStage(p.stages[i], i, p.stages.size(), ctx, current, &timings);
+        }
+        std::string tiles_json;
+        if (tiled) {
+            tiles_json = detail::runTiledStages(p.stages, untiled_end, p.tiling, p.tiling_where,
+                                                p.output, ctx, report, current);
         }
         current = "output";
         detail::writePipelineOutputs(ctx, p.output, report);
+        if (tiled) {
+            // Last: the index appears only once every file it names is written.
+            writeFileAtomically(output_dir / "tiles.json", tiles_json);
+            report.set({"outputs", "tiles_index"}, (output_dir / "tiles.json").string());
+        }
     } catch (const std::exception& e) {
         report.set({"status", "state"}, "failed");
         report.set({"status", "error"}, std::string(e.what()));

@@ -26,7 +26,8 @@ std::string readConfigFile(const std::filesystem::path& file) {
 }
 
 YAML::Node parsePipelineRoot(const std::string& text, const std::string& source) {
-    static const std::vector<std::string> kTopLevelKeys{"dataset", "plugins", "stages", "output"};
+    static const std::vector<std::string> kTopLevelKeys{"dataset", "plugins", "stages", "output",
+                                                        "tiling"};
     YAML::Node root;
     try {
         root = YAML::Load(text);
@@ -44,7 +45,7 @@ YAML::Node parsePipelineRoot(const std::string& text, const std::string& source)
         const std::string key = item.first.Scalar();
         if (std::find(kTopLevelKeys.begin(), kTopLevelKeys.end(), key) == kTopLevelKeys.end()) {
             throw ConfigError(yamlLocation(source, item.first) + ": unknown top-level key '" + key +
-                              "'; valid keys: dataset, plugins, stages, output");
+                              "'; valid keys: dataset, plugins, stages, output, tiling");
         }
     }
     return root;

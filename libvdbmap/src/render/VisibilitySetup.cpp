@@ -27,9 +27,11 @@ void checkVisibilityOptions(const VisibilityOptions& options) {
 
 Visibility meshVisibility(const TriMesh& mesh, const std::vector<View>& views,
                           const VisibilityOptions& options, const std::string& progress_label,
-                          bool quiet) {
+                          bool quiet, const TriMesh* occluders) {
     std::unique_ptr<Raycaster> occluder;
-    if (options.occlusion_test) occluder = std::make_unique<Raycaster>(Raycaster::fromMesh(mesh));
+    if (options.occlusion_test) {
+        occluder = std::make_unique<Raycaster>(Raycaster::fromMesh(occluders ? *occluders : mesh));
+    }
     Progress progress(progress_label, views.size(), quiet);
     return computeVisibility(mesh, views, options, occluder.get(), &progress);
 }

@@ -19,6 +19,7 @@
 #include "vdbmap/pipeline/Context.h"
 #include "vdbmap/pipeline/Report.h"
 #include "vdbmap/pipeline/StageRegistry.h"
+#include "vdbmap/pipeline/Tiling.h"
 
 namespace vdbmap::detail {
 namespace {
@@ -189,7 +190,9 @@ public:
     void run(Context& ctx) override {
         Timer timer;
         MeshStats stats;
-        ctx.setMesh(extractMesh(ctx.map(), config_, &stats));
+        // Tiled runs: the tile's core cubes plus its halo (halo faces marked, TileFaces.h).
+        ctx.setMesh(ctx.hasTile() ? extractMeshRegion(ctx.map(), config_, ctx.tile().region, &stats)
+                                  : extractMesh(ctx.map(), config_, &stats));
         const std::string s(name());
         Report& r = ctx.report();
         r.stage(s, "faces", stats.faces);
@@ -198,6 +201,16 @@ public:
         r.stage(s, "components_removed", stats.components_removed);
         r.stage(s, "faces_removed_small_components", stats.faces_removed_small_components);
         r.stage(s, "faces_rejected_nonmanifold", stats.faces_rejected_nonmanifold);
+        if (ctx.hasTile()) {
+            r.stage(s, "halo_faces", stats.halo_faces);
+            // Occluders beyond the halo: visibility tests see what hides the tile from a view.
+            const MeshRegion& occ = ctx.tile().occluder_region;
+            if (occ.halo_vox > ctx.tile().region.halo_vox) {
+                MeshStats occ_stats;
+                ctx.setOccluderMesh(extractMeshRegion(ctx.map(), config_, occ, &occ_stats));
+                r.stage(s, "occluder_faces", occ_stats.faces);
+            }
+        }
         r.stage(s, "seconds", timer.elapsedSeconds());
     }
 

@@ -19,7 +19,16 @@ private:
     Clock::time_point start_;
 };
 
-/// Peak resident set size of this process in bytes (from /proc/self/status VmHWM; 0 if unknown).
+/// Peak resident set size of this process in bytes (from /proc/self/status VmHWM; 0 if unknown),
+/// over the whole run (also across resetPeakMemoryWindow()).
 std::size_t peakMemoryBytes();
+
+/// Starts a new peak-memory window (Linux: writes 5 to /proc/self/clear_refs, which resets
+/// VmHWM to the current RSS); peakMemoryBytes() keeps the peak of earlier windows. Returns false
+/// if the kernel does not allow it (then windows are not separated).
+bool resetPeakMemoryWindow();
+
+/// Peak resident set size since the last resetPeakMemoryWindow() (the whole run before one).
+std::size_t windowPeakMemoryBytes();
 
 }  // namespace vdbmap

@@ -1,26 +1,41 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <string_view>
+#include <vector>
 
 #include "vdbmap/mesh/TriMesh.h"
+#include "vdbmap/render/Visibility.h"
 
 namespace vdbmap {
 
 class Dataset;
 class VoxelMap;
 class Report;
+struct Tile;
 
 /// Everything stages share: the dataset (read-only), the map, the mesh, the report, the output
 /// folder and the run flags. Stages share state only through this object.
+///
+/// Tiled runs (`tiling:` in the pipeline) give each mesh stage one Context per ground tile:
+/// outputDir() is the tile's folder (tiles/<ix>_<iy>/), report() the tile's report, mesh() the
+/// tile's mesh (core and halo faces, haloFaces()), views() the views assigned to the tile and
+/// tile() its bounds. A stage written against views(), haloFaces() and outputDir() runs
+/// unchanged in tiled and untiled runs; it writes only its core faces.
 class Context {
 public:
     Context(std::filesystem::path output_dir, Report& report, bool quiet = false);
     ~Context();
 
-    /// The output folder (exists). Stages write their files below it (DATA.md layout).
+    /// The output folder (exists; a tile's folder in tiled runs). Stages write their files
+    /// below it (DATA.md layout).
     const std::filesystem::path& outputDir() const { return output_dir_; }
+    /// Writes `content` to outputDir() / relative_path atomically (folders created). Throws
+    /// InvalidInput for an absolute path or one with "..", IoError on write errors.
+    void writeOutput(const std::filesystem::path& relative_path, std::string_view content) const;
     Report& report() { return report_; }
     /// True under --quiet: no progress bars, info logs off.
     bool quiet() const { return quiet_; }
@@ -33,14 +48,39 @@ public:
     bool hasMap() const { return map_ != nullptr; }
     /// Throws Error if no stage created a map.
     VoxelMap& map();
-    std::shared_ptr<VoxelMap> mapPtr() const { return map_; }
+    const VoxelMap& map() const;
+    std::shared_ptr<const VoxelMap> mapPtr() const { return map_; }
     void setMap(std::shared_ptr<VoxelMap> map) { map_ = std::move(map); }
 
     bool hasMesh() const { return mesh_ != nullptr; }
     /// Throws Error if no stage created a mesh.
     TriMesh& mesh();
-    std::shared_ptr<TriMesh> meshPtr() const { return mesh_; }
+    const TriMesh& mesh() const;
+    std::shared_ptr<const TriMesh> meshPtr() const { return mesh_; }
     void setMesh(std::shared_ptr<TriMesh> mesh) { mesh_ = std::move(mesh); }
+
+    /// The mesh visibility tests should use as occluder: in a tiled run the tile's mesh grown by
+    /// tiling.occluder_margin_m (geometry outside the tile still hides it), else mesh().
+    const TriMesh& occluderMesh() const { return occluder_ ? *occluder_ : mesh(); }
+    void setOccluderMesh(std::shared_ptr<const TriMesh> mesh) { occluder_ = std::move(mesh); }
+
+    /// True in the per-tile contexts of a tiled run.
+    bool hasTile() const { return tile_ != nullptr; }
+    /// The tile (key, core and halo bounds in W, assigned views). Throws Error if untiled.
+    const Tile& tile() const;
+    void setTile(std::shared_ptr<const Tile> tile) { tile_ = std::move(tile); }
+
+    /// A context for one tile of a tiled run (the pipeline makes them): the same dataset, map
+    /// and flags, the tile's folder and report, no mesh yet.
+    std::unique_ptr<Context> tileContext(std::filesystem::path tile_dir, Report& tile_report,
+                                         std::shared_ptr<const Tile> tile);
+
+    /// The views of the dataset a mesh stage works with, filtered like datasetViews(): in a
+    /// tiled run only those assigned to the tile, else all. Throws Error without a dataset.
+    std::vector<View> views(bool need_images, bool need_semantics) const;
+    /// One flag per face of mesh() (1 = halo face: take it into coupled decisions, do not
+    /// write it); all 0 in untiled runs. Throws Error without a mesh.
+    std::vector<std::uint8_t> haloFaces() const;
 
 private:
     std::filesystem::path output_dir_;
@@ -49,6 +89,8 @@ private:
     std::shared_ptr<const Dataset> dataset_;
     std::shared_ptr<VoxelMap> map_;
     std::shared_ptr<TriMesh> mesh_;
+    std::shared_ptr<const Tile> tile_;
+    std::shared_ptr<const TriMesh> occluder_;
 };
 
 }  // namespace vdbmap

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "vdbmap/io/Dataset.h"
+#include "vdbmap/pipeline/Tiling.h"
 
 namespace vdbmap {
 
@@ -34,6 +35,7 @@ struct OutputConfig {
 ///         voxel_size_m: 0.1
 ///       - stage: mesh.marching_cubes
 ///     output: {dir: out/run, write_map: true}   # optional; OutputConfig keys
+///     tiling: {tile_size_m: 64, halo_m: 4}      # optional; TilingConfig keys
 ///
 /// Loading does every check before anything runs: YAML syntax, unknown keys (with the list of
 /// valid keys), missing required keys, wrong types (expected vs found), unknown stages, plugin
@@ -42,7 +44,7 @@ struct OutputConfig {
 /// with `file:line:col` and the stage.
 ///
 /// Overrides (`vdbmap run --set`) are `path=value`, the value parsed as YAML:
-///   `dataset.<key>`, `output.<key>`, `stages.<index>.<key>`, or `<stage name>.<key>` when that
+///   `dataset.<key>`, `output.<key>`, `tiling.<key>`, `stages.<index>.<key>`, or `<stage name>.<key>` when that
 ///   stage appears once (`integrate.atsdf.voxel_size_m=0.05`). A relative `dataset.path` given
 ///   this way is relative to the current directory.
 class Pipeline {
@@ -72,6 +74,10 @@ public:
     bool hasDataset() const;
     const DatasetConfig& datasetConfig() const;
     const OutputConfig& outputConfig() const;
+    const TilingConfig& tilingConfig() const;
+    /// Index of the first stage that reads or writes the "mesh" layer (numStages() if none):
+    /// in a tiled run, it and every later stage run once per tile.
+    std::size_t firstTiledStage() const;
     /// Canonical paths of the plugins named in `plugins:`.
     const std::vector<std::filesystem::path>& pluginFiles() const;
 
@@ -84,7 +90,9 @@ public:
     void checkLayers(const std::vector<std::string>& dataset_layers) const;
 
     /// Runs the stages in order into `output_dir` (created), then writes map.vdb / mesh.ply
-    /// as `output:` says, then report.json (also when something failed: the error goes into the
+    /// as `output:` says, then report.json. Tiled (`tiling:`): the stages from
+    /// firstTiledStage() on run per tile into tiles/<ix>_<iy>/, then tiles.json is written
+    /// (last, atomically; never after a failure) (also when something failed: the error goes into the
     /// report, and the exception is rethrown). Opens the dataset first (IoError) and re-checks
     /// the layers with what it really provides. `quiet` turns progress bars off.
     void run(const std::filesystem::path& output_dir, Report& report, bool quiet = false);

@@ -15,11 +15,12 @@ namespace vdbmap {
 void checkVisibilityOptions(const VisibilityOptions& options);
 
 /// The visibility set-up shared by the texture and semantic stages: builds the Embree BVH of
-/// the mesh as occluder when options.occlusion_test, and runs computeVisibility with a
-/// progress bar "<progress_label>" ticked per view (none if `quiet`). The BVH is freed on
+/// `occluders` (the mesh itself when null; a tiled run passes Context::occluderMesh(), the tile
+/// with a margin of its neighbours) when options.occlusion_test, and runs computeVisibility with
+/// a progress bar "<progress_label>" ticked per view (none if `quiet`). The BVH is freed on
 /// return. Throws what computeVisibility throws.
 Visibility meshVisibility(const TriMesh& mesh, const std::vector<View>& views,
                           const VisibilityOptions& options, const std::string& progress_label,
-                          bool quiet);
+                          bool quiet, const TriMesh* occluders = nullptr);
 
 }  // namespace vdbmap

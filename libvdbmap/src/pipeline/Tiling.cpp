@@ -1,0 +1,179 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "vdbmap/pipeline/Tiling.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <sstream>
+
+#include "vdbmap/Error.h"
+#include "vdbmap/io/Dataset.h"
+#include "vdbmap/map/VoxelMap.h"
+#include "vdbmap/pipeline/OptionSpec.h"
+
+namespace vdbmap {
+namespace {
+
+constexpr std::int32_t kLeafVoxels = 8;  // TsdfLeaf::DIM
+
+std::int32_t floorDiv(std::int32_t a, std::int32_t b) {
+    return a >= 0 ? a / b : -((-a + b - 1) / b);
+}
+
+[[noreturn]] void badValue(const std::string& where, const std::string& key, double value,
+                           const std::string& rule) {
+    std::ostringstream os;
+    os << where << ": tiling: option '" << key << "' " << rule << ", got " << value;
+    throw ConfigError(os.str());
+}
+
+}  // namespace
+
+void TilingConfig::declareOptions(OptionSpec& spec) {
+    spec.add("tile_size_m",
+             "Edge of the square ground tiles the mesh stages run on (rounded to whole voxel "
+             "leaves of 8 voxels); 0 = untiled",
+             tile_size_m, 0.0, "m");
+    spec.add("halo_m", "Border of neighbouring mesh each tile sees (MRFs, seams) but does not write",
+             halo_m, 4.0, "m");
+    spec.add("max_view_distance_m",
+             "A view is given to a tile only if the tile lies within this distance of the camera",
+             max_view_distance_m, 60.0, "m");
+    spec.add("occluder_margin_m",
+             "Mesh this far around a tile is an occluder in its visibility tests (never written; "
+             "0 or less than halo_m = the halo only)",
+             occluder_margin_m, 30.0, "m");
+    spec.add("merge",
+             "Also write the single mesh.ply / textured / semantic outputs of an untiled run "
+             "(runs the mesh stages once more on the whole map; skipped above merge_max_faces)",
+             merge, false);
+    spec.add("merge_max_faces", "Largest mesh (faces over all tiles) merge still writes",
+             merge_max_faces, std::int64_t(4000000));
+    spec.add("up_axis",
+             "World axis pointing up (tiles cut the other two): auto (the W axis closest to the "
+             "LiDAR z axis of the first frame), x, y or z",
+             up_axis, std::string("auto"));
+}
+
+void TilingConfig::validate(double voxel_size_m, const std::string& where) const {
+    if (!std::isfinite(tile_size_m) || tile_size_m < 0.0) {
+        badValue(where, "tile_size_m", tile_size_m, "must be finite and >= 0 (0 = untiled)");
+    }
+    if (!std::isfinite(halo_m) || halo_m < 0.0) {
+        badValue(where, "halo_m", halo_m, "must be finite and >= 0");
+    }
+    if (!std::isfinite(max_view_distance_m) || !(max_view_distance_m > 0.0)) {
+        badValue(where, "max_view_distance_m", max_view_distance_m, "must be finite and > 0");
+    }
+    if (!std::isfinite(occluder_margin_m) || occluder_margin_m < 0.0) {
+        badValue(where, "occluder_margin_m", occluder_margin_m, "must be finite and >= 0");
+    }
+    if (merge_max_faces < 0) {
+        badValue(where, "merge_max_faces", static_cast<double>(merge_max_faces), "must be >= 0");
+    }
+    if (up_axis != "auto" && up_axis != "x" && up_axis != "y" && up_axis != "z") {
+        throw ConfigError(where + ": tiling: option 'up_axis' must be auto, x, y or z, got '" +
+                          up_axis + "'");
+    }
+    if (enabled() && voxel_size_m > 0.0) {
+        const double leaf_m = kLeafVoxels * voxel_size_m;
+        if (tile_size_m < leaf_m - 1e-9) {
+            std::ostringstream rule;
+            rule << "must be at least one voxel leaf (8 voxels of " << voxel_size_m
+                 << " m = " << leaf_m << " m)";
+            badValue(where, "tile_size_m", tile_size_m, rule.str());
+        }
+    }
+}
+
+std::size_t Tile::numFrames() const {
+    std::set<std::size_t> frames;
+    for (const auto& v : views) frames.insert(v.first);
+    return frames.size();
+}
+
+int TileGrid::resolveUpAxis(const TilingConfig& config, const Dataset* dataset) {
+    if (config.up_axis == "x") return 0;
+    if (config.up_axis == "y") return 1;
+    if (config.up_axis == "z") return 2;
+    if (!dataset || dataset->numFrames() == 0) return 2;
+    const Eigen::Vector3d up_W = dataset->frame(0).T_W_L.rotation() * Eigen::Vector3d::UnitZ();
+    int axis = 0;
+    up_W.cwiseAbs().maxCoeff(&axis);
+    return axis;
+}
+
+TileGrid::TileGrid(const TilingConfig& config, double voxel_size_m, int up_axis)
+    : voxel_size_m_(voxel_size_m), up_axis_(up_axis) {
+    axes_[0] = up_axis == 0 ? 1 : 0;
+    axes_[1] = up_axis == 2 ? 1 : 2;
+    const double leaves = std::round(config.tile_size_m / (kLeafVoxels * voxel_size_m));
+    tile_vox_ = kLeafVoxels * std::max<std::int32_t>(1, static_cast<std::int32_t>(leaves));
+    halo_vox_ = static_cast<std::int32_t>(std::ceil(config.halo_m / voxel_size_m - 1e-9));
+    occluder_vox_ = std::max(halo_vox_, static_cast<std::int32_t>(
+                                            std::ceil(config.occluder_margin_m / voxel_size_m - 1e-9)));
+}
+
+Tile TileGrid::makeTile(int ix, int iy, double z_min_m, double z_max_m) const {
+    Tile t;
+    t.ix = ix;
+    t.iy = iy;
+    t.voxel_size_m = voxel_size_m_;
+    t.up_axis = up_axis_;
+    t.region.axes[0] = axes_[0];
+    t.region.axes[1] = axes_[1];
+    t.region.core_min[0] = ix * tile_vox_;
+    t.region.core_min[1] = iy * tile_vox_;
+    t.region.core_max[0] = (ix + 1) * tile_vox_;
+    t.region.core_max[1] = (iy + 1) * tile_vox_;
+    t.region.halo_vox = halo_vox_;
+    t.occluder_region = t.region;
+    t.occluder_region.halo_vox = occluder_vox_;
+    // A cube with min corner c spans [c, c + 1] voxels, the voxel centres being at c * vs.
+    const double vs = voxel_size_m_;
+    const double h = halo_vox_ * vs;
+    t.core_W.min_W[up_axis_] = t.halo_W.min_W[up_axis_] = z_min_m;
+    t.core_W.max_W[up_axis_] = t.halo_W.max_W[up_axis_] = z_max_m;
+    for (int k = 0; k < 2; ++k) {
+        t.core_W.min_W[axes_[k]] = t.region.core_min[k] * vs;
+        t.core_W.max_W[axes_[k]] = t.region.core_max[k] * vs;
+        t.halo_W.min_W[axes_[k]] = t.core_W.min_W[axes_[k]] - h;
+        t.halo_W.max_W[axes_[k]] = t.core_W.max_W[axes_[k]] + h;
+    }
+    return t;
+}
+
+std::vector<Tile> TileGrid::tilesOf(const VoxelMap& map) const {
+    std::set<std::pair<int, int>> keys;  // (iy, ix)
+    std::int32_t z_min = 0, z_max = 0;
+    bool first = true;
+    for (const TsdfLeafView& leaf : map.leafViews()) {
+        // A leaf lies in one tile: tile edges are whole leaves.
+        keys.insert({floorDiv(leaf.origin[axes_[1]], tile_vox_),
+                     floorDiv(leaf.origin[axes_[0]], tile_vox_)});
+        const std::int32_t up = leaf.origin[up_axis_];
+        z_min = first ? up : std::min(z_min, up);
+        z_max = first ? up + kLeafVoxels : std::max(z_max, up + kLeafVoxels);
+        first = false;
+    }
+    std::vector<Tile> tiles;
+    for (const auto& [iy, ix] : keys) {
+        tiles.push_back(makeTile(ix, iy, z_min * voxel_size_m_, z_max * voxel_size_m_));
+    }
+    return tiles;
+}
+
+void TileGrid::assignViews(std::vector<Tile>& tiles, const Dataset& dataset,
+                           double max_view_distance_m) {
+    const std::vector<View> views = datasetViews(dataset, false, false);
+    for (Tile& tile : tiles) {
+        tile.views.clear();
+        for (const View& view : views) {
+            if (viewMaySeeBox(view, tile.halo_W, 0.0, max_view_distance_m)) {
+                tile.views.emplace_back(view.frame, view.camera);
+            }
+        }
+    }
+}
+
+}  // namespace vdbmap
