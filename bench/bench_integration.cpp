@@ -21,6 +21,7 @@
 #include "support/SimLidar.h"
 #include "vdbmap/core/Timer.h"
 #include "vdbmap/io/Dataset.h"
+#include "vdbmap/io/MeshIO.h"
 #include "vdbmap/pipeline/DatasetSection.h"
 #include "vdbmap/pipeline/Pipeline.h"
 #include "vdbmap/pipeline/Report.h"
@@ -106,13 +107,16 @@ double median(std::vector<double> v) {
 /// voxel size and eps_max on the same scans in this process (1 thread, scans read beforehand:
 /// its reading is left out). Prints medians and their ratio.
 int runPipelineMode(const std::string& config, std::vector<std::string> sets, int repeat,
-                    int threads, const std::string& out_dir) {
+                    int threads, const std::string& out_dir, const std::string& baseline_mesh) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
                               static_cast<std::size_t>(threads));
     sets.push_back("output.write_map=false");
     sets.push_back("output.write_mesh=false");
     // The baseline's scans, read once (as the same dataset section of the pipeline).
-    const DatasetSection section = loadDatasetSection(config, sets);
+    std::vector<std::string> dataset_sets;
+    for (const std::string& set : sets)
+        if (set.rfind("dataset.", 0) == 0) dataset_sets.push_back(set);
+    const DatasetSection section = loadDatasetSection(config, dataset_sets);
     const auto dataset = Dataset::open(section.config, section.base_dir);
     std::vector<std::vector<Vec3f>> scans_W;
     std::vector<Vec3d> origins;
@@ -136,7 +140,7 @@ int runPipelineMode(const std::string& config, std::vector<std::string> sets, in
         const nlohmann::json j = nlohmann::json::parse(in);
         stage = j.at("stages").at("integrate.atsdf");
         ours_s.push_back(stage.at("seconds").get<double>());
-        const double voxel = j.at("config").at("stages").at(0).at("voxel_size_m").get<double>();
+        const double voxel = j.at("config").at("stages").at(0).at("options").at("voxel_size_m").get<double>();
         const double eps_max = stage.at("truncation_max_m_used").get<double>();
         tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
         bench::ProjectiveBaseline base(voxel, static_cast<float>(eps_max));
@@ -144,6 +148,20 @@ int runPipelineMode(const std::string& config, std::vector<std::string> sets, in
         Timer tb;
         for (std::size_t i = 0; i < scans_W.size(); ++i) base_updates += base.integrate(scans_W[i], origins[i]);
         base_s.push_back(tb.elapsedSeconds());
+        if (!baseline_mesh.empty() && r + 1 == repeat) {
+            // The baseline's map meshed by our marching cubes (default settings), for `vdbmap eval`.
+            const float weight_cap = 100.0f;
+            VoxelMap map(voxel, static_cast<float>(eps_max), weight_cap);
+            base.forEachVoxel([&](const openvdb::Coord& ijk, float sdf, float w) {
+                map.setVoxel(ijk, sdf, std::min(w, weight_cap));
+            });
+            // The baseline's voxel v is the cell [v, v + 1) (centre v + 0.5, OpenVDB's DDA), ours
+            // is centred on v: shift the mesh by half a voxel.
+            auto mesh = extractMesh(map, MarchingCubesConfig{});
+            const float half = static_cast<float>(0.5 * voxel);
+            for (auto v : mesh->vertices()) mesh->point(v) += TriMesh::Point(half, half, half);
+            writeMeshPly(baseline_mesh, *mesh);
+        }
         ratio.push_back(base_s.back() / ours_s.back());
     }
     const double points = stage.at("points_integrated").get<double>();
@@ -201,11 +219,15 @@ int main(int argc, char** argv) {
     app.add_option("--set", pipeline_sets, "--pipeline: override, as `vdbmap run --set`");
     app.add_option("--repeat", repeat, "--pipeline: runs (medians are reported)");
     app.add_option("--out", pipeline_out, "--pipeline: output folder (report.json)");
+    std::string baseline_mesh;
+    app.add_option("--baseline-mesh", baseline_mesh,
+                   "--pipeline: write the baseline's map, meshed by marching cubes, to this PLY");
     CLI11_PARSE(app, argc, argv);
     try {
         if (!pipeline_config.empty()) {
             if (repeat < 1 || threads < 1) throw std::runtime_error("--repeat and --threads must be >= 1");
-            return runPipelineMode(pipeline_config, pipeline_sets, repeat, threads, pipeline_out);
+            return runPipelineMode(pipeline_config, pipeline_sets, repeat, threads, pipeline_out,
+                                   baseline_mesh);
         }
         if (num_scans < 1 || threads < 1) throw std::runtime_error("--scans and --threads must be >= 1");
         const auto scans = makeScans(num_scans, cache);

@@ -90,8 +90,9 @@ private:
         const bool has_normal = block_normal.squaredNorm() > 0.0;
         const Vec3d n = has_normal ? block_normal : Vec3d(-dir);
         const double w_inc = has_normal ? incidenceWeight(n, sensor, p, c_.weight_floor) : 1.0;
-        const double half = alongRayHalfLength(c_.truncation, eps, has_normal ? std::abs(n.dot(dir)) : 1.0);
-        detail::traverseSegment(p - half * dir, dir, 2.0 * half, 1.0 / vs_, [&](const openvdb::Coord& v) {
+        const RayBand band = rayBandFor(c_.truncation, eps, has_normal ? std::abs(n.dot(dir)) : 1.0);
+        detail::traverseSegment(p - band.front_m * dir, dir, band.front_m + band.back_m, 1.0 / vs_,
+                                [&](const openvdb::Coord& v) {
             const Vec3d centre(v.x() * vs_, v.y() * vs_, v.z() * vs_);
             const double sdf = std::clamp(n.dot(centre - p), -eps, eps);
             const double w = w_inc * behindSurfaceFactor(sdf, eps, vs_);

@@ -429,14 +429,16 @@ void AtsdfIntegrator::ScanPass::markLeaves(std::uint64_t* bits, const Coord& bc,
 
 void AtsdfIntegrator::ScanPass::planSegments() {
     // Parallel over blocks: each point's ray direction, update segment (kept for phase 3) and
-    // the leaves it crosses. The segment's half-length along the ray is alongRayHalfLength
-    // (Truncation.h): eps in the paper and fixed modes; in the adaptive mode widened on grazing
-    // rays to b / |n . d| (a band of b along the block normal), capped at L_max.
+    // the leaves it crosses. The segment along the ray is rayBandFor (Truncation.h): [-eps, eps]
+    // in the paper and fixed modes; in the adaptive mode a band of at least b across the
+    // surface, widened in front of the point up to L_max, behind max(eps, b) along the ray but
+    // no deeper than b across the surface.
     const std::size_t n = s_.order.size();
     s_.leaf_bits.assign(s_.local.size() * hood_.words, 0);
     s_.dir.resize(n);
     s_.segment.resize(n);
     const bool along_normal = trunc_.mode == TruncationMode::Adaptive;
+    // L_max >= eps_max >= eps (validateTruncation).
     const float l_max = static_cast<float>(maxAlongRay(trunc_));
     const float band = static_cast<float>(trunc_.grazing_band_m);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s_.local.size(), 16),
@@ -453,11 +455,11 @@ void AtsdfIntegrator::ScanPass::planSegments() {
                 const Vec3f ray = p - origin_f_;
                 const Vec3f dir = ray * (1.0f / std::sqrt(ray.squaredNorm()));  // one division
                 float front = eps, back = eps;
-                if (has_normal) {
+                if (has_normal) {  // rayBandFor (Truncation.h), in float
                     const float c = std::abs(normal.dot(dir));
                     const float grazing = c * l_max > band ? band / c : l_max;  // b / |n . d|
-                    front = std::min(std::max(eps, grazing), std::max(l_max, eps));
-                    back = std::min(eps, grazing);
+                    front = std::min(std::max(eps, grazing), l_max);
+                    back = std::min(std::max(eps, band), grazing);
                 }
                 const detail::RaySegment seg = detail::RaySegment::of(p, dir, front, back, inv_vs_f_);
                 s_.dir[k] = dir;

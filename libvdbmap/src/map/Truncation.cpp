@@ -64,17 +64,17 @@ double maxAlongRay(const TruncationParams& p) {
     return p.max_along_ray_m > 0.0 ? p.max_along_ray_m : 2.0 * p.max_m;
 }
 
-double alongRayHalfLength(const TruncationParams& p, double eps_m, double cos_incidence) {
-    if (p.mode != TruncationMode::Adaptive) return eps_m;
-    // The band across the surface, measured along the block normal n: a voxel at t along the
-    // ray has plane distance t |n . d|. The ray band [-eps, eps] spans eps |n . d| across the
-    // surface; the adaptive mode keeps at least b = grazing_band_m across it:
-    //   L = min(max(eps, b / |n . d|), L_max).
-    const double l_max = maxAlongRay(p);
+RayBand rayBandFor(const TruncationParams& p, double eps_m, double cos_incidence) {
+    if (p.mode != TruncationMode::Adaptive) return {eps_m, eps_m};
+    // A voxel at t along the ray lies t |n . d| from the block's plane: the ray band [-eps, eps]
+    // spans only eps |n . d| across a grazing surface. The adaptive band spans at least b across
+    // it in front (b / |n . d| along the ray, up to L_max); behind, max(eps, b) along the ray
+    // but no deeper than b across the surface.
+    const double l_max = std::max(maxAlongRay(p), eps_m);
     const double c = std::clamp(cos_incidence, 0.0, 1.0);
     const double b = p.grazing_band_m;
     const double grazing = c * l_max > b ? b / c : l_max;
-    return std::min(std::max(eps_m, grazing), std::max(l_max, eps_m));
+    return {std::min(std::max(eps_m, grazing), l_max), std::min(std::max(eps_m, b), grazing)};
 }
 
 double maxHalfLength(const TruncationParams& p) {

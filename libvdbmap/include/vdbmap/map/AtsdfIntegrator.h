@@ -72,9 +72,10 @@ struct IntegrationStats {
 ///     block borrows the n-weighted mean of its 26 neighbours' valid normals (re-oriented
 ///     towards the sensor), and only without any valid neighbour falls back to the ray
 ///     direction (sdf along the ray, incidence weight 1);
-///     planSegments: each point's segment along its ray, t in [-L, L] around the point, with
-///     L = alongRayHalfLength (Truncation.h): eps in the paper and fixed modes, eps / |n . d|
-///     capped at L_max in the adaptive mode (the band measured along the normal);
+///     planSegments: each point's segment along its ray, t in [-front, back] around the point
+///     (rayBandFor, Truncation.h): [-eps, eps] in the paper and fixed modes; in the adaptive
+///     mode at least b = grazing_band_m across the surface (b / |n . d| along the ray, in front
+///     up to L_max, behind max(eps, b) but at most b across the surface);
 ///  3. allocate the leaves the segments cross; integrate: every voxel v the segment pierces
 ///     (DDA) gets sdf = n . (v - p) (the distance to the block's plane), clamped to
 ///     [-eps, eps], with weight w = incidenceWeight * behindSurfaceFactor, and the running

@@ -10,11 +10,10 @@ namespace vdbmap {
 /// How the truncation distance eps is chosen and where the band of a measurement lies.
 enum class TruncationMode {
     /// The default. eps per block from paper Eq. (4) (as Paper), and a band that keeps a width
-    /// across the surface: t in [-L, L] along the ray with L = min(max(eps, b / |n . d|), L_max)
-    /// (alongRayHalfLength; n the block normal, d the ray, b = grazing_band_m). A grazing
-    /// surface (the road seen from a car) keeps a band of b across it and its updates reach
-    /// along the surface towards the next ring, where the ray band of Paper/Fixed spans only
-    /// eps |n . d| across it.
+    /// across the surface (rayBandFor; n the block normal, d the ray, b = grazing_band_m): a
+    /// grazing surface (the road seen from a car) keeps a band of b across it and its updates
+    /// reach along the surface towards the next ring, where the ray band of Paper/Fixed spans
+    /// only eps |n . d| across it.
     Adaptive,
     Paper,  ///< per block, paper Eq. (4), band [-eps, eps] along the ray
     Fixed,  ///< eps = truncation_max_m everywhere, band along the ray (same code path)
@@ -64,14 +63,19 @@ double truncationFor(const TruncationParams& params, const PlaneEstimate& plane,
 /// L_max of the adaptive mode (max_along_ray_m, or 2 * max_m when 0).
 double maxAlongRay(const TruncationParams& params);
 
-/// The half-length L (m) of a point's update segment along its ray, given its block's eps and
-/// cos_incidence = |n . d| (n: the normal used for the point, d: the unit ray direction):
-///   Adaptive:      L = min(max(eps, b / |n . d|), L_max)   (the ray band, widened on grazing
-///                  rays so that it spans at least b = grazing_band_m along the normal; no
-///                  normal: cos_incidence = 1)
-///   Paper, Fixed:  L = eps                          (the band along the ray)
-/// Never below eps (L_max >= eps_max >= eps).
-double alongRayHalfLength(const TruncationParams& params, double eps_m, double cos_incidence);
+/// The extent of a point's update segment along its ray: t in [-front_m, back_m] around the
+/// point (front: towards the sensor).
+struct RayBand {
+    double front_m = 0.0, back_m = 0.0;
+};
+
+/// The segment of a point whose block has `eps_m`, with cos_incidence = |n . d| (n: the normal
+/// used for the point, d: the unit ray direction; 1 when the point has no normal):
+///   Adaptive:      front = min(max(eps, b / c), L_max), back = min(max(eps, b), b / c)
+///                  (b = grazing_band_m: the band spans at least b across the surface; it is
+///                  widened only in front, in the free space the ray crossed)
+///   Paper, Fixed:  front = back = eps                (the band along the ray)
+RayBand rayBandFor(const TruncationParams& params, double eps_m, double cos_incidence);
 
 /// The longest half-length any point can get (the update reach of the integrator).
 double maxHalfLength(const TruncationParams& params);
