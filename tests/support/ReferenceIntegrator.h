@@ -90,7 +90,9 @@ private:
         const bool has_normal = block_normal.squaredNorm() > 0.0;
         const Vec3d n = has_normal ? block_normal : Vec3d(-dir);
         const double w_inc = has_normal ? incidenceWeight(n, sensor, p, c_.weight_floor) : 1.0;
-        const RayBand band = rayBandFor(c_.truncation, eps, has_normal ? std::abs(n.dot(dir)) : 1.0);
+        // Without a normal (isolated degenerate block) the band is [-eps, eps] along the ray.
+        const RayBand band = has_normal ? rayBandFor(c_.truncation, eps, std::abs(n.dot(dir)))
+                                        : RayBand{eps, eps};
         detail::traverseSegment(p - band.front_m * dir, dir, band.front_m + band.back_m, 1.0 / vs_,
                                 [&](const openvdb::Coord& v) {
             const Vec3d centre(v.x() * vs_, v.y() * vs_, v.z() * vs_);

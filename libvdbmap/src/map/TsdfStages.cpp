@@ -3,6 +3,7 @@
 
 #include <openvdb/openvdb.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <sstream>
@@ -104,8 +105,10 @@ public:
             }
         }
         // The range from the voxel size unless given in metres.
-        config_.truncation.min_m = min_m_ > 0.0 ? min_m_ : min_vox_ * voxel_size_m_;
         config_.truncation.max_m = max_m_ > 0.0 ? max_m_ : max_vox_ * voxel_size_m_;
+        // eps_min from voxels never exceeds eps_max (a fixed-mode config gives only the max).
+        config_.truncation.min_m =
+            min_m_ > 0.0 ? min_m_ : std::min(min_vox_ * voxel_size_m_, config_.truncation.max_m);
         config_.truncation.max_along_ray_m = max_along_ray_m_;
         config_.truncation.grazing_band_m = grazing_band_vox_ * voxel_size_m_;
         config_.truncation.flatness_k = k_;
