@@ -36,9 +36,10 @@ public:
     void declareOptions(OptionSpec& spec) override {
         spec.add("voxel_size_m", "Edge length of a voxel", voxel_size_m_, 0.10, "m");
         spec.add("truncation_mode",
-                 "adaptive (eps of paper Eq. 4 per 8^3 block; on grazing rays the band keeps grazing_band_voxels "
-                 "across the surface: L = min(max(eps, b / |n.d|), L_max) along the ray), paper (Eq. 4, band along the ray) or "
-                 "fixed (= truncation_max_m, band along the ray)",
+                 "adaptive (eps of paper Eq. 4 per 8^3 block; the band keeps b = grazing_band_voxels "
+                 "across grazing surfaces: along the ray min(max(eps, b / |n.d|), L_max) in front of "
+                 "the point, min(max(eps, b), b / |n.d|) behind it), paper (Eq. 4, [-eps, eps] along "
+                 "the ray) or fixed (= truncation_max_m, along the ray)",
                  truncation_mode_, std::string("adaptive"));
         spec.add("truncation_min_voxels",
                  "eps_min in voxels, used when truncation_min_m is 0: 4 (paper: streets at 0.10 m "
