@@ -72,6 +72,13 @@ public:
     }
     openvdb::Index64 activeVoxelCount() const { return tsdf_->activeVoxelCount(); }
 
+    /// visit(ijk, sdf_m, weight) for every updated voxel (to mesh the baseline's map).
+    template <typename Visit>
+    void forEachVoxel(Visit&& visit) const {
+        auto weight = weight_->getConstAccessor();
+        for (auto it = tsdf_->cbeginValueOn(); it; ++it) visit(it.getCoord(), *it, weight.getValue(it.getCoord()));
+    }
+
 private:
     float trunc_m_;
     openvdb::FloatGrid::Ptr tsdf_;

@@ -13,12 +13,18 @@
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 
 #include "ProjectiveBaseline.h"
 #include "support/SimLidar.h"
 #include "vdbmap/core/Timer.h"
+#include "vdbmap/io/Dataset.h"
+#include "vdbmap/io/MeshIO.h"
+#include "vdbmap/pipeline/DatasetSection.h"
+#include "vdbmap/pipeline/Pipeline.h"
+#include "vdbmap/pipeline/Report.h"
 #include "vdbmap/map/AtsdfIntegrator.h"
 #include "vdbmap/map/BlockStats.h"
 #include "vdbmap/map/VoxelMap.h"
@@ -91,6 +97,98 @@ std::vector<std::vector<Vec3f>> makeScans(int num_scans, const std::string& cach
     return scans;
 }
 
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+/// --pipeline mode: runs the pipeline file (its integrate stage, with --set overrides) as
+/// `vdbmap run` does, `repeat` times, each followed by the VDBFusion-style baseline at the same
+/// voxel size and eps_max on the same scans in this process (1 thread, scans read beforehand:
+/// its reading is left out). Prints medians and their ratio.
+int runPipelineMode(const std::string& config, std::vector<std::string> sets, int repeat,
+                    int threads, const std::string& out_dir, const std::string& baseline_mesh) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism,
+                              static_cast<std::size_t>(threads));
+    sets.push_back("output.write_map=false");
+    sets.push_back("output.write_mesh=false");
+    // The baseline's scans, read once (as the same dataset section of the pipeline).
+    std::vector<std::string> dataset_sets;
+    for (const std::string& set : sets)
+        if (set.rfind("dataset.", 0) == 0) dataset_sets.push_back(set);
+    const DatasetSection section = loadDatasetSection(config, dataset_sets);
+    const auto dataset = Dataset::open(section.config, section.base_dir);
+    std::vector<std::vector<Vec3f>> scans_W;
+    std::vector<Vec3d> origins;
+    for (std::size_t i = 0; i < dataset->numFrames(); ++i) {
+        const PointCloud cloud = dataset->loadScan(i);
+        const Eigen::Isometry3f T = dataset->frame(i).T_W_L.cast<float>();
+        std::vector<Vec3f> pw;
+        pw.reserve(cloud.points.size());
+        for (const Vec3f& p : cloud.points) pw.push_back(T * p);
+        scans_W.push_back(std::move(pw));
+        origins.push_back(dataset->frame(i).T_W_L.translation());
+    }
+    std::vector<double> ours_s, base_s, ratio;
+    nlohmann::json stage;
+    std::size_t base_updates = 0;
+    for (int r = 0; r < repeat; ++r) {
+        auto pipeline = Pipeline::fromFile(config, sets);
+        Report report;
+        pipeline->run(out_dir, report, true);
+        std::ifstream in(std::filesystem::path(out_dir) / "report.json");
+        const nlohmann::json j = nlohmann::json::parse(in);
+        stage = j.at("stages").at("integrate.atsdf");
+        ours_s.push_back(stage.at("seconds").get<double>());
+        const double voxel = j.at("config").at("stages").at(0).at("options").at("voxel_size_m").get<double>();
+        const double eps_max = stage.at("truncation_max_m_used").get<double>();
+        tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+        bench::ProjectiveBaseline base(voxel, static_cast<float>(eps_max));
+        base_updates = 0;
+        Timer tb;
+        for (std::size_t i = 0; i < scans_W.size(); ++i) base_updates += base.integrate(scans_W[i], origins[i]);
+        base_s.push_back(tb.elapsedSeconds());
+        if (!baseline_mesh.empty() && r + 1 == repeat) {
+            // The baseline's map meshed by our marching cubes (default settings), for `vdbmap eval`.
+            const float weight_cap = 100.0f;
+            VoxelMap map(voxel, static_cast<float>(eps_max), weight_cap);
+            base.forEachVoxel([&](const openvdb::Coord& ijk, float sdf, float w) {
+                map.setVoxel(ijk, sdf, std::min(w, weight_cap));
+            });
+            // The baseline's voxel v is the cell [v, v + 1) (centre v + 0.5, OpenVDB's DDA), ours
+            // is centred on v: shift the mesh by half a voxel.
+            auto mesh = extractMesh(map, MarchingCubesConfig{});
+            const float half = static_cast<float>(0.5 * voxel);
+            for (auto v : mesh->vertices()) mesh->point(v) += TriMesh::Point(half, half, half);
+            writeMeshPly(baseline_mesh, *mesh);
+        }
+        ratio.push_back(base_s.back() / ours_s.back());
+    }
+    const double points = stage.at("points_integrated").get<double>();
+    nlohmann::json j;
+    j["mode"] = "pipeline";
+    j["config"] = config;
+    j["sets"] = sets;
+    j["threads"] = threads;
+    j["repeat"] = repeat;
+    j["points"] = points;
+    j["integrate_s"] = ours_s;
+    j["baseline_s"] = base_s;
+    j["integrate_s_median"] = median(ours_s);
+    j["baseline_s_median"] = median(base_s);
+    j["mpts_per_s_median"] = 1e-6 * points / median(ours_s);
+    j["baseline_mpts_per_s_median"] = 1e-6 * points / median(base_s);
+    j["speedup_of_medians"] = median(base_s) / median(ours_s);
+    j["speedup_median_of_pairs"] = median(ratio);
+    j["updates_per_point"] = stage.at("updates_per_point");
+    j["baseline_updates_per_point"] = static_cast<double>(base_updates) / points;
+    j["read_wait_s"] = stage.at("read_wait_s");
+    for (const char* k : {"phase_bin_s", "phase_stats_s", "phase_alloc_s", "phase_update_s", "phase_retire_s"})
+        if (stage.contains(k)) j[k] = stage.at(k);
+    std::cout << j.dump() << std::endl;
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -112,8 +210,25 @@ int main(int argc, char** argv) {
     app.add_flag("--baseline", baseline,
                  "also run the projective VDBFusion-style baseline (1 thread, fixed eps_max) on the "
                  "same scans, after our integrator, and report both");
+    std::string pipeline_config, pipeline_out = "out/bench_pipeline";
+    std::vector<std::string> pipeline_sets;
+    int repeat = 5;
+    app.add_option("--pipeline", pipeline_config,
+                   "time what `vdbmap run` does: this pipeline's integrate stage (scan reading "
+                   "included) against the baseline on the same scans (e.g. bench/run_integration.yaml)");
+    app.add_option("--set", pipeline_sets, "--pipeline: override, as `vdbmap run --set`");
+    app.add_option("--repeat", repeat, "--pipeline: runs (medians are reported)");
+    app.add_option("--out", pipeline_out, "--pipeline: output folder (report.json)");
+    std::string baseline_mesh;
+    app.add_option("--baseline-mesh", baseline_mesh,
+                   "--pipeline: write the baseline's map, meshed by marching cubes, to this PLY");
     CLI11_PARSE(app, argc, argv);
     try {
+        if (!pipeline_config.empty()) {
+            if (repeat < 1 || threads < 1) throw std::runtime_error("--repeat and --threads must be >= 1");
+            return runPipelineMode(pipeline_config, pipeline_sets, repeat, threads, pipeline_out,
+                                   baseline_mesh);
+        }
         if (num_scans < 1 || threads < 1) throw std::runtime_error("--scans and --threads must be >= 1");
         const auto scans = makeScans(num_scans, cache);
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism,

@@ -5,6 +5,8 @@
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <memory>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -159,250 +161,389 @@ std::vector<std::uint8_t> cameraSeenFaces(
     return vdbmap::pointsSeenByViews(transfer.gt_point_W, normals, views, gt_rc);
 }
 
-// The scores of the faces in `base` (all if null) split by `near_boundary` (1 = the ground-truth
-// class changes within the band): area fraction and scores near class boundaries and inside.
-nlohmann::json boundarySplit(const vdbmap::GtLabelTransfer& transfer,
-                             const std::vector<std::uint8_t>& labels,
-                             const std::vector<std::uint8_t>& near_boundary,
-                             const std::vector<std::uint8_t>* base, double band_m,
-                             std::ostringstream& table) {
+/// The ground-truth mesh with its face labels (every section needs it).
+struct GroundTruth {
+    fs::path mesh_path;
+    std::vector<std::uint8_t> labels;  ///< per OpenMesh face (empty: none)
+    std::vector<vdbmap::Vec3f> vertices;
+    std::vector<std::array<std::uint32_t, 3>> triangles;
+    std::vector<std::uint32_t> face_index;  ///< OpenMesh face of each triangle
+    std::unique_ptr<vdbmap::Raycaster> raycaster;
+
+    /// Label of each triangle (empty if the mesh has none).
+    std::vector<std::uint8_t> triangleLabels() const {
+        std::vector<std::uint8_t> out;
+        if (labels.empty()) return out;
+        for (std::uint32_t f : face_index) out.push_back(labels[f]);
+        return out;
+    }
+};
+
+GroundTruth loadGroundTruth(const fs::path& gt) {
+    GroundTruth g;
+    g.mesh_path = gt / "mesh.ply";
+    if (!fs::exists(g.mesh_path)) throw vdbmap::IoError("vdbmap eval: " + g.mesh_path.string() + ": missing");
+    const vdbmap::TriMesh mesh = vdbmap::readMeshPly(g.mesh_path, &g.labels);
+    vdbmap::triMeshArrays(mesh, g.vertices, g.triangles, &g.face_index);
+    g.raycaster = std::make_unique<vdbmap::Raycaster>(g.vertices, g.triangles);
+    return g;
+}
+
+// ---- Geometry: compute, JSON, table.
+
+struct GeometryResult {
+    fs::path mesh_path;
+    std::string note;  ///< e.g. the observed points were missing
+    std::size_t observed_points = 0;
+    vdbmap::GeometryMetrics metrics;
+};
+
+GeometryResult computeGeometry(const EvalArgs& args, const fs::path& gt_dir, const GroundTruth& gt,
+                               const std::vector<double>& tau) {
+    GeometryResult r;
+    r.mesh_path = fs::path(args.run_dir) / "mesh.ply";
+    const vdbmap::TriMesh pred_mesh = vdbmap::readMeshPly(r.mesh_path);
+    std::vector<vdbmap::Vec3f> pv;
+    std::vector<std::array<std::uint32_t, 3>> pt;
+    vdbmap::triMeshArrays(pred_mesh, pv, pt);
+    std::vector<vdbmap::Vec3f> observed;
+    const fs::path obs_path = gt_dir / "observed_points.ply";
+    if (fs::exists(obs_path)) {
+        observed = vdbmap::readPlyPoints(obs_path).points;
+    } else {
+        r.note = obs_path.string() + " missing: completeness uses ground-truth mesh vertices";
+        observed = gt.vertices;
+    }
+    r.observed_points = observed.size();
+    vdbmap::GeometryEvalOptions go;
+    go.tau_m = tau;
+    go.observed_cutoff_m = args.cutoff_m;
+    go.sample_spacing_m = args.sample_spacing_m;
+    go.gt_face_class = gt.triangleLabels();  // per-class completeness and recall
+    if (!args.classes.empty()) {
+        if (gt.labels.empty()) {
+            throw vdbmap::IoError("vdbmap eval: --classes needs face labels in " + gt.mesh_path.string());
+        }
+        for (std::uint32_t f : gt.face_index) {
+            go.gt_face_mask.push_back(std::find(args.classes.begin(), args.classes.end(),
+                                                gt.labels[f]) != args.classes.end());
+        }
+    }
+    std::vector<float> vertex_error;
+    r.metrics = vdbmap::evaluateGeometry(pv, pt, *gt.raycaster, observed, go,
+                                         args.error_ply.empty() ? nullptr : &vertex_error);
+    if (!args.error_ply.empty()) {
+        std::vector<std::array<std::uint8_t, 3>> colors;
+        colors.reserve(vertex_error.size());
+        const float max_e = static_cast<float>(*std::max_element(tau.begin(), tau.end()));
+        for (float e : vertex_error) colors.push_back(errorColor(e, max_e));
+        vdbmap::PlyWriteOptions opt;
+        opt.vertex_colors = &colors;
+        opt.vertex_normals = false;
+        vdbmap::writeMeshPly(args.error_ply, pred_mesh, opt);
+    }
+    return r;
+}
+
+nlohmann::json geometryJson(const GeometryResult& r, const EvalArgs& args) {
+    const vdbmap::GeometryMetrics& g = r.metrics;
+    const vdbmap::LabelSet label_set = vdbmap::LabelSet::defaults();
+    nlohmann::json j;
+    j["mesh"] = r.mesh_path.string();
+    j["faces"] = g.pred_faces;
+    j["accuracy"] = statsJson(g.accuracy);
+    j["completeness"] = statsJson(g.completeness);
+    j["chamfer_l1_m"] = g.chamfer_l1;
+    j["pred_samples"] = g.pred_samples;
+    j["pred_samples_scored"] = g.pred_samples_used;
+    j["observed_cutoff_m"] = args.cutoff_m;
+    j["observed_points"] = r.observed_points;
+    j["observed_points_scored"] = g.gt_points_used;
+    j["classes"] = args.classes;
+    for (const auto& f : g.fscores) {
+        j["fscore"].push_back(
+            {{"tau_m", f.tau_m}, {"precision", f.precision}, {"recall", f.recall}, {"fscore", f.fscore}});
+    }
+    j["per_class"] = nlohmann::json::array();
+    for (const auto& c : g.per_class) {
+        nlohmann::json recall = nlohmann::json::array();
+        for (std::size_t t = 0; t < c.recall.size(); ++t)
+            recall.push_back({{"tau_m", g.fscores[t].tau_m}, {"recall", c.recall[t]}});
+        j["per_class"].push_back({{"id", c.class_id},
+                                  {"name", label_set.name(static_cast<std::uint8_t>(c.class_id))},
+                                  {"completeness", statsJson(c.completeness)},
+                                  {"recall", recall}});
+    }
+    return j;
+}
+
+void geometryTable(const GeometryResult& r, const EvalArgs& args, const std::vector<double>& tau,
+                   std::ostringstream& table) {
+    const vdbmap::GeometryMetrics& g = r.metrics;
+    if (!r.note.empty()) table << "note: " << r.note << "\n";
+    table << std::setprecision(4) << "geometry (" << g.pred_faces << " faces"
+          << (args.classes.empty() ? "" : ", scored on the selected classes only") << ")\n"
+          << "  accuracy     mean " << g.accuracy.mean << "  median " << g.accuracy.median
+          << "  p90 " << g.accuracy.p90 << "  max " << g.accuracy.max << " m\n"
+          << "  completeness mean " << g.completeness.mean << "  median " << g.completeness.median
+          << "  p90 " << g.completeness.p90 << "  max " << g.completeness.max << " m\n"
+          << "  chamfer-L1   " << g.chamfer_l1 << " m\n";
+    for (const auto& f : g.fscores) {
+        table << "  tau " << f.tau_m << " m: precision " << f.precision << "  recall " << f.recall
+              << "  F " << f.fscore << "\n";
+    }
+    if (!g.per_class.empty()) {
+        const vdbmap::LabelSet label_set = vdbmap::LabelSet::defaults();
+        table << "  recall per class (observed points):\n";
+        for (const auto& c : g.per_class) {
+            table << "    " << std::setw(14) << std::left
+                  << label_set.name(static_cast<std::uint8_t>(c.class_id)) << std::right << " "
+                  << std::setw(8) << c.completeness.count << " points";
+            for (std::size_t t = 0; t < c.recall.size(); ++t)
+                table << "  @" << g.fscores[t].tau_m << " " << c.recall[t];
+            table << "\n";
+        }
+    }
+    if (!args.error_ply.empty()) {
+        table << "  error colouring (blue 0 -> red " << *std::max_element(tau.begin(), tau.end())
+              << " m): " << args.error_ply << "\n";
+    }
+}
+
+// ---- Semantics: compute, JSON, table.
+
+struct BoundarySplit {
+    vdbmap::SemanticMetrics near, inside;
+};
+
+BoundarySplit splitAtBoundaries(const vdbmap::GtLabelTransfer& transfer,
+                                const std::vector<std::uint8_t>& labels,
+                                const std::vector<std::uint8_t>& near_boundary,
+                                const std::vector<std::uint8_t>* base) {
     std::vector<std::uint8_t> near(near_boundary.size()), inside(near_boundary.size());
     for (std::size_t f = 0; f < near.size(); ++f) {
         const bool in_base = base == nullptr || (*base)[f] != 0;
         near[f] = in_base && near_boundary[f] != 0;
         inside[f] = in_base && near_boundary[f] == 0;
     }
-    const vdbmap::SemanticMetrics n = vdbmap::scoreSemantics(transfer, labels, &near);
-    const vdbmap::SemanticMetrics i = vdbmap::scoreSemantics(transfer, labels, &inside);
-    const double total = n.matched_area_m2 + i.matched_area_m2;
-    const double n_wrong = (1.0 - n.overall_accuracy) * n.matched_area_m2;
-    const double i_wrong = (1.0 - i.overall_accuracy) * i.matched_area_m2;
+    return {vdbmap::scoreSemantics(transfer, labels, &near),
+            vdbmap::scoreSemantics(transfer, labels, &inside)};
+}
+
+nlohmann::json boundaryJson(const BoundarySplit& b, double band_m) {
+    const double total = b.near.matched_area_m2 + b.inside.matched_area_m2;
+    const double n_wrong = (1.0 - b.near.overall_accuracy) * b.near.matched_area_m2;
+    const double i_wrong = (1.0 - b.inside.overall_accuracy) * b.inside.matched_area_m2;
     nlohmann::json j;
     j["band_m"] = band_m;
-    j["near_area_fraction"] = total > 0 ? n.matched_area_m2 / total : 0.0;
-    j["near_accuracy"] = n.overall_accuracy;
-    j["inside_accuracy"] = i.overall_accuracy;
+    j["near_area_fraction"] = total > 0 ? b.near.matched_area_m2 / total : 0.0;
+    j["near_accuracy"] = b.near.overall_accuracy;
+    j["inside_accuracy"] = b.inside.overall_accuracy;
     j["wrong_area_near_m2"] = n_wrong;
     j["wrong_area_inside_m2"] = i_wrong;
     j["wrong_near_fraction"] = n_wrong + i_wrong > 0 ? n_wrong / (n_wrong + i_wrong) : 0.0;
-    table << "  within " << band_m
-          << " m of a class boundary: " << 100.0 * j["near_area_fraction"].get<double>()
-          << " % of the area, accuracy " << n.overall_accuracy << "; elsewhere accuracy "
-          << i.overall_accuracy << "; " << 100.0 * j["wrong_near_fraction"].get<double>()
-          << " % of the wrong area is near a boundary\n";
     return j;
 }
 
+void boundaryTable(const BoundarySplit& b, double band_m, std::ostringstream& table) {
+    const nlohmann::json j = boundaryJson(b, band_m);
+    table << "  within " << band_m
+          << " m of a class boundary: " << 100.0 * j["near_area_fraction"].get<double>()
+          << " % of the area, accuracy " << b.near.overall_accuracy << "; elsewhere accuracy "
+          << b.inside.overall_accuracy << "; " << 100.0 * j["wrong_near_fraction"].get<double>()
+          << " % of the wrong area is near a boundary\n";
+}
+
+struct SemanticResult {
+    fs::path mesh_path;
+    vdbmap::SemanticMetrics all;
+    std::size_t stacked_resolved = 0;
+    std::size_t unknown_next_to_known = 0;
+    std::optional<BoundarySplit> boundary;
+    fs::path seq;
+    std::string dataset_source;  ///< empty: no camera-seen scores
+    std::vector<std::string> cameras;
+    std::size_t frames = 0;
+    vdbmap::SemanticMetrics seen;
+    std::optional<BoundarySplit> seen_boundary;
+};
+
+SemanticResult computeSemantics(const EvalArgs& args, const fs::path& gt_dir, const GroundTruth& gt,
+                                const fs::path& sem_path) {
+    SemanticResult r;
+    r.mesh_path = sem_path;
+    std::vector<std::uint8_t> labels;
+    const vdbmap::TriMesh sem_mesh = vdbmap::readMeshPly(sem_path, &labels);
+    std::vector<vdbmap::Vec3f> sv;
+    std::vector<std::array<std::uint32_t, 3>> st;
+    std::vector<std::uint32_t> sf;
+    vdbmap::triMeshArrays(sem_mesh, sv, st, &sf);
+    if (labels.size() != sem_mesh.n_faces()) {
+        throw vdbmap::IoError(sem_path.string() + ": has " + std::to_string(labels.size()) +
+                              " face labels for " + std::to_string(sem_mesh.n_faces()) + " faces");
+    }
+    std::vector<std::uint8_t> tri_labels;
+    for (std::uint32_t f : sf) tri_labels.push_back(labels[f]);
+    const std::vector<std::uint8_t> gt_tri_labels = gt.triangleLabels();
+    const vdbmap::GtLabelTransfer transfer = vdbmap::transferGtLabels(
+        sv, st, *gt.raycaster, gt_tri_labels, args.cutoff_m, args.stack_tolerance_m);
+    r.all = vdbmap::scoreSemantics(transfer, tri_labels);
+    r.stacked_resolved = transfer.stacked_resolved;
+    // Issue #6: no unlabelled face may have a labelled neighbour.
+    r.unknown_next_to_known = vdbmap::unlabelledNextToLabelled(labels, vdbmap::faceAdjacency(sem_mesh));
+    std::vector<std::uint8_t> near_boundary;
+    if (args.boundary_band_m > 0) {
+        near_boundary = vdbmap::nearGtClassBoundary(sv, st, transfer, *gt.raycaster, gt_tri_labels,
+                                                    args.boundary_band_m, args.cutoff_m,
+                                                    args.stack_tolerance_m);
+        r.boundary = splitAtBoundaries(transfer, tri_labels, near_boundary, nullptr);
+    }
+    r.seq = args.seq_dir.empty() ? gt_dir.parent_path() : fs::path(args.seq_dir);
+    const auto camera_dataset = cameraDataset(args, r.seq, r.dataset_source);
+    if (camera_dataset) {
+        const std::vector<std::uint8_t> seen =
+            cameraSeenFaces(*camera_dataset, transfer, gt.vertices, gt.triangles, *gt.raycaster);
+        r.seen = vdbmap::scoreSemantics(transfer, tri_labels, &seen);
+        for (const auto& camera : camera_dataset->cameras()) r.cameras.push_back(camera.name);
+        r.frames = camera_dataset->numFrames();
+        if (!near_boundary.empty())
+            r.seen_boundary = splitAtBoundaries(transfer, tri_labels, near_boundary, &seen);
+    }
+    return r;
+}
+
+double seenFraction(const SemanticResult& r) {
+    return r.all.matched_area_m2 > 0 ? r.seen.matched_area_m2 / r.all.matched_area_m2 : 0.0;
+}
+
+nlohmann::json semanticsJson(const SemanticResult& r, const EvalArgs& args) {
+    nlohmann::json j = semanticJson(r.all);
+    j["mesh"] = r.mesh_path.string();
+    j["stack_tolerance_m"] = args.stack_tolerance_m;
+    j["faces_labelled_by_outer_stacked_surface"] = r.stacked_resolved;
+    j["unlabelled_faces_next_to_labelled"] = r.unknown_next_to_known;
+    if (r.boundary) j["boundary"] = boundaryJson(*r.boundary, args.boundary_band_m);
+    if (r.dataset_source.empty()) {
+        j["camera_seen"] = nullptr;
+        return j;
+    }
+    nlohmann::json jo = semanticJson(r.seen);
+    jo["sequence"] = r.seq.string();
+    jo["dataset"] = r.dataset_source;
+    jo["cameras"] = r.cameras;
+    jo["frames"] = r.frames;
+    jo["seen_fraction"] = seenFraction(r);
+    if (r.seen_boundary) jo["boundary"] = boundaryJson(*r.seen_boundary, args.boundary_band_m);
+    j["camera_seen"] = jo;
+    return j;
+}
+
+void semanticsTable(const SemanticResult& r, const EvalArgs& args, std::ostringstream& table) {
+    table << std::setprecision(4) << "semantics (all area)\n";
+    printScores(table, r.all);
+    table << " (unlabelled faces next to a labelled one: " << r.unknown_next_to_known << ")\n";
+    if (r.boundary) boundaryTable(*r.boundary, args.boundary_band_m, table);
+    if (r.dataset_source.empty()) {
+        table << "semantics (camera-seen area): skipped (no --dataset, and neither "
+                 "dataset.yaml nor calib.txt + poses.txt in "
+              << r.seq.string() << ")\n";
+        return;
+    }
+    table << "semantics (camera-seen area, " << 100.0 * seenFraction(r) << " % of the matched area; "
+          << r.cameras.size() << " camera(s) of " << r.dataset_source << ")\n";
+    printScores(table, r.seen);
+    table << "\n";
+    if (r.seen_boundary) boundaryTable(*r.seen_boundary, args.boundary_band_m, table);
+}
+
+// ---- Texture: compute, JSON, table.
+
+struct TextureResult {
+    fs::path mesh_path;
+    vdbmap::TextureMetrics metrics;
+};
+
+TextureResult computeTexture(const fs::path& obj_path, const fs::path& views_dir, const GroundTruth& gt) {
+    TextureResult r;
+    r.mesh_path = obj_path;
+    vdbmap::ObjMesh obj;
+    std::vector<cv::Mat> textures;
+    vdbmap::loadTexturedObj(obj_path, obj, textures);
+    const auto views = vdbmap::readGtViews(views_dir);
+    std::vector<cv::Mat> images;
+    for (const auto& v : views) images.push_back(vdbmap::readColorImage(views_dir / v.image));
+    r.metrics = vdbmap::evaluateTexture(obj, textures, views, images, gt.raycaster.get());
+    return r;
+}
+
+nlohmann::json textureJson(const TextureResult& r) {
+    const vdbmap::TextureMetrics& t = r.metrics;
+    return {{"mesh", r.mesh_path.string()}, {"views", t.views},  {"pixels_compared", t.pixels_compared},
+            {"coverage", t.coverage},       {"mae", t.mae},      {"psnr_db", t.psnr_db}};
+}
+
+void textureTable(const TextureResult& r, std::ostringstream& table) {
+    const vdbmap::TextureMetrics& t = r.metrics;
+    table << std::setprecision(3) << "texture (" << t.views << " held-out views)\n"
+          << "  PSNR " << t.psnr_db << " dB  MAE " << t.mae << " (0-255)  coverage " << t.coverage << "\n";
+}
+
+void writeReport(const std::string& json_path, const nlohmann::json& report) {
+    vdbmap::AtomicFile file(json_path);
+    {
+        std::ofstream out(file.tempPath());
+        out << report.dump(2) << "\n";
+        if (!out) throw vdbmap::IoError(json_path + ": write failed");
+    }
+    file.commit();
+}
+
 void runEval(const EvalArgs& args, int& exit_code) {
-    const fs::path gt(args.gt_dir);
+    const fs::path gt_dir(args.gt_dir);
     const fs::path run(args.run_dir);
-    if (!fs::is_directory(gt)) throw vdbmap::IoError("vdbmap eval: --gt " + gt.string() + ": not a folder");
+    if (!fs::is_directory(gt_dir)) {
+        throw vdbmap::IoError("vdbmap eval: --gt " + gt_dir.string() + ": not a folder");
+    }
     if (!fs::is_directory(run)) {
         throw vdbmap::IoError("vdbmap eval: --run " + run.string() + ": not a folder");
     }
     const std::vector<double> tau = parseTau(args.tau);
     nlohmann::json report;
-    report["gt"] = gt.string();
+    report["gt"] = gt_dir.string();
     report["run"] = run.string();
     std::ostringstream table;
     table << std::fixed;
+    const GroundTruth gt = loadGroundTruth(gt_dir);
 
-    // Ground-truth mesh with labels (needed by every section).
-    const fs::path gt_mesh_path = gt / "mesh.ply";
-    if (!fs::exists(gt_mesh_path)) {
-        throw vdbmap::IoError("vdbmap eval: " + gt_mesh_path.string() + ": missing");
-    }
-    std::vector<std::uint8_t> gt_labels;
-    const vdbmap::TriMesh gt_mesh = vdbmap::readMeshPly(gt_mesh_path, &gt_labels);
-    std::vector<vdbmap::Vec3f> gt_vertices;
-    std::vector<std::array<std::uint32_t, 3>> gt_triangles;
-    std::vector<std::uint32_t> gt_face_index;
-    vdbmap::triMeshArrays(gt_mesh, gt_vertices, gt_triangles, &gt_face_index);
-    const vdbmap::Raycaster gt_rc(gt_vertices, gt_triangles);
-
-    // Geometry.
     const fs::path pred_mesh_path = run / "mesh.ply";
     if (fs::exists(pred_mesh_path)) {
-        const vdbmap::TriMesh pred_mesh = vdbmap::readMeshPly(pred_mesh_path);
-        std::vector<vdbmap::Vec3f> pv;
-        std::vector<std::array<std::uint32_t, 3>> pt;
-        vdbmap::triMeshArrays(pred_mesh, pv, pt);
-        std::vector<vdbmap::Vec3f> observed;
-        const fs::path obs_path = gt / "observed_points.ply";
-        if (fs::exists(obs_path)) {
-            observed = vdbmap::readPlyPoints(obs_path).points;
-        } else {
-            table << "note: " << obs_path.string()
-                  << " missing: completeness uses ground-truth mesh vertices\n";
-            observed = gt_vertices;
-        }
-        vdbmap::GeometryEvalOptions go;
-        go.tau_m = tau;
-        go.observed_cutoff_m = args.cutoff_m;
-        go.sample_spacing_m = args.sample_spacing_m;
-        if (!args.classes.empty()) {
-            if (gt_labels.empty()) {
-                throw vdbmap::IoError("vdbmap eval: --classes needs face labels in " +
-                                      gt_mesh_path.string());
-            }
-            for (std::uint32_t f : gt_face_index) {
-                go.gt_face_mask.push_back(std::find(args.classes.begin(), args.classes.end(),
-                                                    gt_labels[f]) != args.classes.end());
-            }
-        }
-        std::vector<float> vertex_error;
-        const vdbmap::GeometryMetrics g = vdbmap::evaluateGeometry(
-            pv, pt, gt_rc, observed, go, args.error_ply.empty() ? nullptr : &vertex_error);
-        nlohmann::json j;
-        j["mesh"] = pred_mesh_path.string();
-        j["faces"] = g.pred_faces;
-        j["accuracy"] = statsJson(g.accuracy);
-        j["completeness"] = statsJson(g.completeness);
-        j["chamfer_l1_m"] = g.chamfer_l1;
-        j["pred_samples"] = g.pred_samples;
-        j["pred_samples_scored"] = g.pred_samples_used;
-        j["observed_cutoff_m"] = args.cutoff_m;
-        j["observed_points"] = observed.size();
-        j["observed_points_scored"] = g.gt_points_used;
-        j["classes"] = args.classes;
-        for (const auto& f : g.fscores) {
-            j["fscore"].push_back({{"tau_m", f.tau_m},
-                                   {"precision", f.precision},
-                                   {"recall", f.recall},
-                                   {"fscore", f.fscore}});
-        }
-        report["geometry"] = j;
-        table << std::setprecision(4) << "geometry (" << g.pred_faces << " faces"
-              << (args.classes.empty() ? "" : ", scored on the selected classes only")
-              << ")\n"
-              << "  accuracy     mean " << g.accuracy.mean << "  median " << g.accuracy.median
-              << "  p90 " << g.accuracy.p90 << "  max " << g.accuracy.max << " m\n"
-              << "  completeness mean " << g.completeness.mean << "  median "
-              << g.completeness.median << "  p90 " << g.completeness.p90 << "  max "
-              << g.completeness.max << " m\n"
-              << "  chamfer-L1   " << g.chamfer_l1 << " m\n";
-        for (const auto& f : g.fscores) {
-            table << "  tau " << f.tau_m << " m: precision " << f.precision << "  recall "
-                  << f.recall << "  F " << f.fscore << "\n";
-        }
-        if (!args.error_ply.empty()) {
-            std::vector<std::array<std::uint8_t, 3>> colors;
-            colors.reserve(vertex_error.size());
-            const float max_e = static_cast<float>(*std::max_element(tau.begin(), tau.end()));
-            for (float e : vertex_error) colors.push_back(errorColor(e, max_e));
-            vdbmap::PlyWriteOptions opt;
-            opt.vertex_colors = &colors;
-            opt.vertex_normals = false;
-            vdbmap::writeMeshPly(args.error_ply, pred_mesh, opt);
-            table << "  error colouring (blue 0 -> red " << max_e << " m): " << args.error_ply
-                  << "\n";
-        }
+        const GeometryResult g = computeGeometry(args, gt_dir, gt, tau);
+        report["geometry"] = geometryJson(g, args);
+        geometryTable(g, args, tau, table);
     } else {
         table << "geometry: skipped (" << pred_mesh_path.string() << " missing)\n";
         report["geometry"] = nullptr;
     }
 
-    // Semantics.
     const fs::path sem_path = run / "semantic" / "mesh.ply";
-    if (fs::exists(sem_path) && !gt_labels.empty()) {
-        std::vector<std::uint8_t> labels;
-        const vdbmap::TriMesh sem_mesh = vdbmap::readMeshPly(sem_path, &labels);
-        std::vector<vdbmap::Vec3f> sv;
-        std::vector<std::array<std::uint32_t, 3>> st;
-        std::vector<std::uint32_t> sf;
-        vdbmap::triMeshArrays(sem_mesh, sv, st, &sf);
-        if (labels.size() != sem_mesh.n_faces()) {
-            throw vdbmap::IoError(sem_path.string() + ": has " + std::to_string(labels.size()) +
-                                  " face labels for " + std::to_string(sem_mesh.n_faces()) +
-                                  " faces");
-        }
-        std::vector<std::uint8_t> tri_labels;
-        for (std::uint32_t f : sf) tri_labels.push_back(labels[f]);
-        std::vector<std::uint8_t> gt_tri_labels;
-        for (std::uint32_t f : gt_face_index) gt_tri_labels.push_back(gt_labels[f]);
-        const vdbmap::GtLabelTransfer transfer = vdbmap::transferGtLabels(
-            sv, st, gt_rc, gt_tri_labels, args.cutoff_m, args.stack_tolerance_m);
-        const vdbmap::SemanticMetrics s = vdbmap::scoreSemantics(transfer, tri_labels);
-        nlohmann::json j = semanticJson(s);
-        j["mesh"] = sem_path.string();
-        j["stack_tolerance_m"] = args.stack_tolerance_m;
-        j["faces_labelled_by_outer_stacked_surface"] = transfer.stacked_resolved;
-        // Issue #6: no unlabelled face may have a labelled neighbour.
-        const std::size_t unknown_next_to_known =
-            vdbmap::unlabelledNextToLabelled(labels, vdbmap::faceAdjacency(sem_mesh));
-        j["unlabelled_faces_next_to_labelled"] = unknown_next_to_known;
-        table << std::setprecision(4) << "semantics (all area)\n";
-        printScores(table, s);
-        table << " (unlabelled faces next to a labelled one: " << unknown_next_to_known << ")\n";
-        std::vector<std::uint8_t> near_boundary;
-        if (args.boundary_band_m > 0) {
-            near_boundary = vdbmap::nearGtClassBoundary(sv, st, transfer, gt_rc, gt_tri_labels,
-                                                        args.boundary_band_m, args.cutoff_m,
-                                                        args.stack_tolerance_m);
-            j["boundary"] = boundarySplit(transfer, tri_labels, near_boundary, nullptr,
-                                          args.boundary_band_m, table);
-        }
-        const fs::path seq = args.seq_dir.empty() ? gt.parent_path() : fs::path(args.seq_dir);
-        std::string dataset_source;
-        const auto camera_dataset = cameraDataset(args, seq, dataset_source);
-        if (camera_dataset) {
-            const std::vector<std::uint8_t> seen =
-                cameraSeenFaces(*camera_dataset, transfer, gt_vertices, gt_triangles, gt_rc);
-            const vdbmap::SemanticMetrics o = vdbmap::scoreSemantics(transfer, tri_labels, &seen);
-            nlohmann::json jo = semanticJson(o);
-            jo["sequence"] = seq.string();
-            jo["dataset"] = dataset_source;
-            jo["cameras"] = nlohmann::json::array();
-            for (const auto& camera : camera_dataset->cameras())
-                jo["cameras"].push_back(camera.name);
-            jo["frames"] = camera_dataset->numFrames();
-            jo["seen_fraction"] = s.matched_area_m2 > 0 ? o.matched_area_m2 / s.matched_area_m2 : 0.0;
-            j["camera_seen"] = jo;
-            table << "semantics (camera-seen area, " << 100.0 * jo["seen_fraction"].get<double>()
-                  << " % of the matched area; " << camera_dataset->cameras().size()
-                  << " camera(s) of " << dataset_source << ")\n";
-            printScores(table, o);
-            table << "\n";
-            if (!near_boundary.empty()) {
-                j["camera_seen"]["boundary"] = boundarySplit(transfer, tri_labels, near_boundary,
-                                                             &seen, args.boundary_band_m, table);
-            }
-        } else {
-            table << "semantics (camera-seen area): skipped (no --dataset, and neither "
-                     "dataset.yaml nor calib.txt + poses.txt in "
-                  << seq.string() << ")\n";
-            j["camera_seen"] = nullptr;
-        }
-        report["semantics"] = j;
+    if (fs::exists(sem_path) && !gt.labels.empty()) {
+        const SemanticResult s = computeSemantics(args, gt_dir, gt, sem_path);
+        report["semantics"] = semanticsJson(s, args);
+        semanticsTable(s, args, table);
     } else {
         table << "semantics: skipped ("
-              << (gt_labels.empty() ? gt_mesh_path.string() + " has no face labels"
+              << (gt.labels.empty() ? gt.mesh_path.string() + " has no face labels"
                                     : sem_path.string() + " missing")
               << ")\n";
         report["semantics"] = nullptr;
     }
 
-    // Texture.
     const fs::path obj_path = run / "textured" / "mesh.obj";
-    const fs::path views_dir = gt / "views";
+    const fs::path views_dir = gt_dir / "views";
     if (fs::exists(obj_path) && fs::exists(views_dir / "views.json")) {
-        vdbmap::ObjMesh obj;
-        std::vector<cv::Mat> textures;
-        vdbmap::loadTexturedObj(obj_path, obj, textures);
-        const auto views = vdbmap::readGtViews(views_dir);
-        std::vector<cv::Mat> images;
-        for (const auto& v : views) images.push_back(vdbmap::readColorImage(views_dir / v.image));
-        const vdbmap::TextureMetrics t =
-            vdbmap::evaluateTexture(obj, textures, views, images, &gt_rc);
-        report["texture"] = {{"mesh", obj_path.string()},
-                             {"views", t.views},
-                             {"pixels_compared", t.pixels_compared},
-                             {"coverage", t.coverage},
-                             {"mae", t.mae},
-                             {"psnr_db", t.psnr_db}};
-        table << std::setprecision(3) << "texture (" << t.views << " held-out views)\n"
-              << "  PSNR " << t.psnr_db << " dB  MAE " << t.mae << " (0-255)  coverage "
-              << t.coverage << "\n";
+        const TextureResult t = computeTexture(obj_path, views_dir, gt);
+        report["texture"] = textureJson(t);
+        textureTable(t, table);
     } else {
         table << "texture: skipped ("
               << (fs::exists(obj_path) ? (views_dir / "views.json").string() : obj_path.string())
@@ -410,15 +551,7 @@ void runEval(const EvalArgs& args, int& exit_code) {
         report["texture"] = nullptr;
     }
 
-    if (!args.json_path.empty()) {
-        vdbmap::AtomicFile file(args.json_path);
-        {
-            std::ofstream out(file.tempPath());
-            out << report.dump(2) << "\n";
-            if (!out) throw vdbmap::IoError(args.json_path + ": write failed");
-        }
-        file.commit();
-    }
+    if (!args.json_path.empty()) writeReport(args.json_path, report);
     if (!args.quiet) std::cout << table.str();
     exit_code = 0;
 }

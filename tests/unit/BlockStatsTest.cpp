@@ -103,3 +103,28 @@ TEST_CASE("BlockStatsGrid: one entry per block, found by block coordinate", "[ts
     CHECK(grid.size() == 2);
     CHECK(grid.bytesPerBlock() >= static_cast<double>(sizeof(BlockEntry)));
 }
+
+TEST_CASE("The integrator's indexed one-pass batch statistics equal batchStats", "[tsdf][stats]") {
+    // Points of one 0.8 m block 1 km from the origin, taken through an index (a permutation
+    // with repeats left out), as the integrator takes a block's points of one scan.
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(0.0f, 0.8f);
+    for (int trial = 0; trial < 20; ++trial) {
+        std::vector<Vec3f> points(1 + rng() % 300);
+        for (auto& p : points) p = Vec3f(1000.0f + u(rng), -700.0f + u(rng), 12.0f + 0.05f * u(rng));
+        std::vector<std::uint32_t> index;
+        std::vector<Vec3d> picked;
+        for (std::uint32_t i = 0; i < points.size(); ++i)
+            if (rng() % 3 != 0 || i == 0) {
+                index.push_back(i);
+                picked.push_back(points[i].cast<double>());
+            }
+        const BlockStats expected = batchStats(picked);
+        const BlockStats got = batchStatsIndexed(points.data(), index.data(), index.size());
+        REQUIRE(got.n == expected.n);
+        REQUIRE((got.mean - expected.mean).norm() < 1e-9);
+        REQUIRE((got.cov - expected.cov).norm() < 1e-9 * (1.0 + expected.cov.norm()));
+        if (index.size() == 1) CHECK(got.cov.norm() == 0.0);
+    }
+    CHECK(batchStatsIndexed(nullptr, nullptr, 0).n == 0.0);
+}

@@ -43,7 +43,7 @@ Result runWithThreads(int threads, TruncationMode mode) {
 }  // namespace
 
 TEST_CASE("1 and N threads give the same map within 1e-6 on every voxel", "[tsdf][determinism]") {
-    for (TruncationMode mode : {TruncationMode::Adaptive, TruncationMode::Fixed}) {
+    for (TruncationMode mode : {TruncationMode::Adaptive, TruncationMode::Paper, TruncationMode::Fixed}) {
         const Result one = runWithThreads(1, mode);
         const Result many = runWithThreads(4, mode);
         REQUIRE(one.map->activeVoxelCount() > 10000);

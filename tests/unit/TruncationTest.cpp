@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <catch2/catch.hpp>
 
+#include <string>
+
 #include "vdbmap/Error.h"
 #include "vdbmap/map/Truncation.h"
 
@@ -71,4 +73,45 @@ TEST_CASE("n_ref follows from a surface density and the block size", "[tsdf][tru
     // A flat surface sampled at 1000 points per m^2 in both grids.
     const double n_coarse = 1000.0 * 0.8 * 0.8, n_fine = 1000.0 * 0.2 * 0.2;
     CHECK(truncationFor(coarse, plane(0.9), n_coarse) == Approx(truncationFor(fine, plane(0.9), n_fine)));
+}
+
+TEST_CASE("Adaptive band: at least b across a grazing surface, widened only in front",
+          "[tsdf][truncation]") {
+    TruncationParams t;
+    t.min_m = 0.4;
+    t.max_m = 0.8;
+    t.grazing_band_m = 0.2;  // 2 voxels of 0.1 m; L_max = 2 eps_max = 1.6 m
+    // Frontal (c = 1): the paper's eps in front, b behind.
+    RayBand r = rayBandFor(t, 0.5, 1.0);
+    CHECK(r.front_m == Approx(0.5));
+    CHECK(r.back_m == Approx(0.2));
+    // A small eps (1 voxel) still gets b behind the surface.
+    CHECK(rayBandFor(t, 0.1, 1.0).back_m == Approx(0.2));
+    CHECK(rayBandFor(t, 0.1, 1.0).front_m == Approx(0.2));
+    // 30 deg from the surface (c = 0.5): b / c = 0.4 < eps: front eps, back 0.4.
+    r = rayBandFor(t, 0.5, 0.5);
+    CHECK(r.front_m == Approx(0.5));
+    CHECK(r.back_m == Approx(0.4));
+    // Grazing (c = 0.1): the ray band would span 0.05 m across the surface; the adaptive band
+    // spans b = 0.2 m in front (2 m along the ray, capped at L_max = 1.6 m) and eps behind.
+    r = rayBandFor(t, 0.5, 0.1);
+    CHECK(r.front_m == Approx(1.6));
+    CHECK(r.back_m == Approx(0.5));
+    CHECK(r.front_m * 0.1 > 0.5 * 0.1);
+    // Parallel to the surface: the cap.
+    CHECK(rayBandFor(t, 0.5, 0.0).front_m == Approx(1.6));
+    t.max_along_ray_m = 1.0;
+    CHECK(rayBandFor(t, 0.5, 0.1).front_m == Approx(1.0));
+    CHECK(maxHalfLength(t) == Approx(1.0));
+    // Paper and fixed: [-eps, eps] along the ray, whatever the incidence.
+    for (TruncationMode m : {TruncationMode::Paper, TruncationMode::Fixed}) {
+        t.mode = m;
+        r = rayBandFor(t, 0.5, 0.1);
+        CHECK(r.front_m == Approx(0.5));
+        CHECK(r.back_m == Approx(0.5));
+        CHECK(maxHalfLength(t) == Approx(0.8));
+    }
+    CHECK(parseTruncationMode("paper") == TruncationMode::Paper);
+    CHECK(std::string(truncationModeName(TruncationMode::Paper)) == "paper");
+    CHECK_THROWS_WITH(parseTruncationMode("grazing"), Catch::Contains("paper"));
 }

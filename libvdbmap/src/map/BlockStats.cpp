@@ -22,6 +22,29 @@ BlockStats batchStats(const std::vector<Vec3d>& points) {
     return s;
 }
 
+BlockStats batchStatsIndexed(const Vec3f* points, const std::uint32_t* index, std::size_t count) {
+    BlockStats batch;
+    if (count == 0) return batch;
+    batch.n = static_cast<double>(count);
+    const Vec3d shift = points[index[0]].cast<double>();
+    Vec3d sum = Vec3d::Zero();
+    double sxx = 0, sxy = 0, sxz = 0, syy = 0, syz = 0, szz = 0;
+    for (std::size_t k = 0; k < count; ++k) {
+        const Vec3d d = points[index[k]].cast<double>() - shift;
+        sum += d;
+        sxx += d.x() * d.x(); sxy += d.x() * d.y(); sxz += d.x() * d.z();
+        syy += d.y() * d.y(); syz += d.y() * d.z(); szz += d.z() * d.z();
+    }
+    const Vec3d mean_shifted = sum / batch.n;
+    batch.mean = shift + mean_shifted;
+    if (count > 1) {
+        Mat3d scatter;
+        scatter << sxx, sxy, sxz, sxy, syy, syz, sxz, syz, szz;
+        batch.cov = (scatter - batch.n * mean_shifted * mean_shifted.transpose()) / (batch.n - 1.0);
+    }
+    return batch;
+}
+
 BlockStats mergeStats(const BlockStats& a, const BlockStats& b) {
     if (a.n <= 0.0) return b;
     if (b.n <= 0.0) return a;

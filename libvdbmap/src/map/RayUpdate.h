@@ -34,6 +34,12 @@ struct RaySegment {
     static RaySegment of(const Vec3f& p_W, const Vec3f& dir_W, float eps_m, float inv_voxel) {
         return {(p_W - eps_m * dir_W) * inv_voxel + Vec3f::Constant(0.5f), 2.0f * eps_m * inv_voxel};
     }
+    /// t in [-front_m, back_m] around p (front: towards the sensor).
+    static RaySegment of(const Vec3f& p_W, const Vec3f& dir_W, float front_m, float back_m,
+                         float inv_voxel) {
+        return {(p_W - front_m * dir_W) * inv_voxel + Vec3f::Constant(0.5f),
+                (front_m + back_m) * inv_voxel};
+    }
     openvdb::Coord startVoxel() const {
         return openvdb::Coord(floorToInt(start_idx.x()), floorToInt(start_idx.y()),
                               floorToInt(start_idx.z()));

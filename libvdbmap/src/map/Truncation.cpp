@@ -11,12 +11,18 @@ namespace vdbmap {
 
 TruncationMode parseTruncationMode(const std::string& text) {
     if (text == "adaptive") return TruncationMode::Adaptive;
+    if (text == "paper") return TruncationMode::Paper;
     if (text == "fixed") return TruncationMode::Fixed;
-    throw ConfigError("truncation_mode must be 'adaptive' or 'fixed', got '" + text + "'");
+    throw ConfigError("truncation_mode must be 'adaptive', 'paper' or 'fixed', got '" + text + "'");
 }
 
 const char* truncationModeName(TruncationMode mode) {
-    return mode == TruncationMode::Adaptive ? "adaptive" : "fixed";
+    switch (mode) {
+        case TruncationMode::Adaptive: return "adaptive";
+        case TruncationMode::Paper: return "paper";
+        case TruncationMode::Fixed: return "fixed";
+    }
+    return "adaptive";
 }
 
 void validateTruncation(const TruncationParams& p, const std::string& who) {
@@ -31,6 +37,11 @@ void validateTruncation(const TruncationParams& p, const std::string& who) {
     if (!std::isfinite(p.flatness_k) || p.flatness_k < 0.0) bad("flatness_k", p.flatness_k, ">= 0");
     if (!std::isfinite(p.reference_points) || p.reference_points <= 0.0)
         bad("reference_points", p.reference_points, "> 0");
+    if (!std::isfinite(p.max_along_ray_m) || p.max_along_ray_m < 0.0 ||
+        (p.max_along_ray_m > 0.0 && p.max_along_ray_m < p.max_m))
+        bad("truncation_max_along_ray_m", p.max_along_ray_m, "0 (= 2 truncation_max_m) or >= truncation_max_m");
+    if (!std::isfinite(p.grazing_band_m) || p.grazing_band_m < 0.0)
+        bad("grazing_band_voxels", p.grazing_band_m, ">= 0");
 }
 
 double referencePointsForDensity(double density_pts_m2, double voxel_size_m) {
@@ -47,6 +58,27 @@ double truncationFor(const TruncationParams& p, const PlaneEstimate& plane, doub
     // clamped to [eps_min, eps_max].
     const double eps = std::max(p.min_m, p.flatness_k * plane.flatness * p.reference_points / n * p.max_m);
     return std::clamp(eps, p.min_m, p.max_m);
+}
+
+double maxAlongRay(const TruncationParams& p) {
+    return p.max_along_ray_m > 0.0 ? p.max_along_ray_m : 2.0 * p.max_m;
+}
+
+RayBand rayBandFor(const TruncationParams& p, double eps_m, double cos_incidence) {
+    if (p.mode != TruncationMode::Adaptive) return {eps_m, eps_m};
+    // A voxel at t along the ray lies t |n . d| from the block's plane: the ray band [-eps, eps]
+    // spans only eps |n . d| across a grazing surface. The adaptive band spans at least b across
+    // it in front (b / |n . d| along the ray, up to L_max); behind, max(eps, b) along the ray
+    // but no deeper than b across the surface.
+    const double l_max = std::max(maxAlongRay(p), eps_m);
+    const double c = std::clamp(cos_incidence, 0.0, 1.0);
+    const double b = p.grazing_band_m;
+    const double grazing = c * l_max > b ? b / c : l_max;
+    return {std::min(std::max(eps_m, grazing), l_max), std::min(std::max(eps_m, b), grazing)};
+}
+
+double maxHalfLength(const TruncationParams& p) {
+    return p.mode == TruncationMode::Adaptive ? std::max(maxAlongRay(p), p.max_m) : p.max_m;
 }
 
 }  // namespace vdbmap

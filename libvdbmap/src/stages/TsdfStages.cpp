@@ -3,9 +3,11 @@
 
 #include <openvdb/openvdb.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <sstream>
+#include <utility>
 
 #include "vdbmap/core/Log.h"
 #include "vdbmap/core/Progress.h"
@@ -13,6 +15,7 @@
 #include "vdbmap/io/Dataset.h"
 #include "vdbmap/map/AtsdfIntegrator.h"
 #include "vdbmap/map/BlockStats.h"
+#include "vdbmap/map/IntegrateDataset.h"
 #include "vdbmap/map/Layers.h"
 #include "vdbmap/map/VoxelMap.h"
 #include "vdbmap/mesh/MarchingCubes.h"
@@ -33,11 +36,35 @@ public:
     }
     void declareOptions(OptionSpec& spec) override {
         spec.add("voxel_size_m", "Edge length of a voxel", voxel_size_m_, 0.10, "m");
-        spec.add("truncation_mode", "adaptive (paper Eq. 4, per 8^3 block) or fixed (= truncation_max_m)",
+        spec.add("truncation_mode",
+                 "adaptive (eps of paper Eq. 4 per 8^3 block; the band keeps b = grazing_band_voxels "
+                 "across grazing surfaces: along the ray min(max(eps, b / |n.d|), L_max) in front of "
+                 "the point, min(max(eps, b), b / |n.d|) behind it), paper (Eq. 4, [-eps, eps] along "
+                 "the ray) or fixed (= truncation_max_m, along the ray)",
                  truncation_mode_, std::string("adaptive"));
-        spec.add("truncation_min_m", "Lower bound eps_min of the truncation distance", min_m_, 0.10, "m");
-        spec.add("truncation_max_m", "Upper bound eps_max of the truncation (the fixed value in fixed mode)",
-                 max_m_, 0.30, "m");
+        spec.add("truncation_min_voxels",
+                 "eps_min in voxels, used when truncation_min_m is 0: 4 (paper: streets at 0.10 m "
+                 "-> 0.40 m; the SUV at 0.025 m -> 0.10 m)",
+                 min_vox_, 4.0, "voxels");
+        spec.add("truncation_max_voxels",
+                 "eps_max in voxels, used when truncation_max_m is 0: 8 for streets (paper: 0.10 m "
+                 "voxels -> [0.40, 0.80] m, sparse LiDAR rings far from the car), 12 for a close "
+                 "object (the paper's SUV: 0.025 m voxels -> [0.10, 0.30] m)",
+                 max_vox_, 8.0, "voxels");
+        spec.add("truncation_min_m", "Lower bound eps_min of the truncation distance (0 = truncation_min_voxels)",
+                 min_m_, 0.0, "m");
+        spec.add("truncation_max_m",
+                 "Upper bound eps_max of the truncation, the fixed value in fixed mode (0 = "
+                 "truncation_max_voxels)",
+                 max_m_, 0.0, "m");
+        spec.add("truncation_max_along_ray_m",
+                 "Adaptive mode: L_max, the cap of an update's half-length along a grazing ray (0 = "
+                 "2 eps_max)",
+                 max_along_ray_m_, 0.0, "m");
+        spec.add("grazing_band_voxels",
+                 "Adaptive mode: b, the least half-width of the band across a surface (along its "
+                 "normal) in voxels; a grazing ray's update reaches b / |n.d| along it",
+                 grazing_band_vox_, 2.0, "voxels");
         spec.add("flatness_k", "Weight k of the flatness in eps = k P_flat n_ref / n eps_max", k_, 1.0);
         spec.add("reference_density_pts_m2",
                  "Surface density giving n_ref = density * (8 voxel)^2, the points per block at which a "
@@ -69,8 +96,23 @@ public:
         } catch (const ConfigError& e) {
             failConfig(std::string("option '") + e.what());
         }
-        config_.truncation.min_m = min_m_;
-        config_.truncation.max_m = max_m_;
+        for (const auto& [key, value] : {std::pair<const char*, double>{"truncation_min_voxels", min_vox_},
+                                         {"truncation_max_voxels", max_vox_},
+                                         {"truncation_min_m", min_m_},
+                                         {"truncation_max_m", max_m_}}) {
+            if (!(value >= 0.0) || !std::isfinite(value)) {
+                std::ostringstream os;
+                os << "option '" << key << "' must be finite and >= 0, got " << value;
+                failConfig(os.str());
+            }
+        }
+        // The range from the voxel size unless given in metres.
+        config_.truncation.max_m = max_m_ > 0.0 ? max_m_ : max_vox_ * voxel_size_m_;
+        // eps_min from voxels never exceeds eps_max (a fixed-mode config gives only the max).
+        config_.truncation.min_m =
+            min_m_ > 0.0 ? min_m_ : std::min(min_vox_ * voxel_size_m_, config_.truncation.max_m);
+        config_.truncation.max_along_ray_m = max_along_ray_m_;
+        config_.truncation.grazing_band_m = grazing_band_vox_ * voxel_size_m_;
         config_.truncation.flatness_k = k_;
         if (!(n_ref_ >= 0.0) || !std::isfinite(n_ref_)) {
             std::ostringstream os;
@@ -97,24 +139,17 @@ public:
     }
     void run(Context& ctx) override {
         const Dataset& dataset = ctx.dataset();
-        auto map = std::make_shared<VoxelMap>(voxel_size_m_, static_cast<float>(max_m_),
+        auto map = std::make_shared<VoxelMap>(voxel_size_m_, static_cast<float>(config_.truncation.max_m),
                                               static_cast<float>(max_weight_));
         AtsdfIntegrator integrator(*map, config_);
-        ScanReadStats read_total;
-        Timer timer;
+        DatasetIntegration run;
         {
+            // Scan i + 1 is read while scan i is integrated (integrateDataset).
             Progress progress("integrate.atsdf", dataset.numFrames(), ctx.quiet());
-            for (std::size_t i = 0; i < dataset.numFrames(); ++i) {
-                ScanReadStats rs;
-                const PointCloud cloud = dataset.loadScan(i, &rs);
-                read_total.points_read += rs.points_read;
-                read_total.dropped_non_finite += rs.dropped_non_finite;
-                read_total.dropped_range += rs.dropped_range;
-                integrator.integrateScan(cloud.points, dataset.frame(i).T_W_L);
-                progress.tick();
-            }
+            run = integrateDataset(dataset, integrator, [&progress] { progress.tick(); });
         }
-        const double seconds = timer.elapsedSeconds();
+        const ScanReadStats& read_total = run.read;
+        const double seconds = run.seconds;
         integrator.finalize();
         ctx.setMap(map);
 
@@ -123,6 +158,10 @@ public:
         Report& r = ctx.report();
         r.stage(s, "scans", t.scans);
         r.stage(s, "reference_points", config_.truncation.reference_points);
+        r.stage(s, "truncation_min_m_used", config_.truncation.min_m);
+        r.stage(s, "truncation_max_m_used", config_.truncation.max_m);
+        r.stage(s, "updates_per_point",
+                t.points_integrated ? static_cast<double>(t.voxel_updates) / static_cast<double>(t.points_integrated) : 0.0);
         r.stage(s, "points_read", read_total.points_read);
         r.stage(s, "points_integrated", t.points_integrated);
         r.stage(s, "dropped_non_finite", read_total.dropped_non_finite + t.dropped_non_finite);
@@ -140,6 +179,13 @@ public:
         r.stage(s, "bytes_per_leaf_stats", map->blockStats().bytesPerBlock());
         const double grid_bytes = static_cast<double>(map->tsdfMemoryBytes());
         r.stage(s, "bytes_per_active_voxel", active ? grid_bytes / static_cast<double>(active) : 0.0);
+        r.stage(s, "read_wait_s", run.read_wait_s);
+        r.stage(s, "phase_bin_s", t.bin_s);
+        r.stage(s, "phase_stats_s", t.stats_s);
+        r.stage(s, "phase_alloc_s", t.alloc_s);
+        r.stage(s, "phase_update_s", t.update_s);
+        r.stage(s, "phase_retire_s", t.retire_s);
+        r.stage(s, "seconds", seconds);
         r.stage(s, "ms_per_scan", t.scans ? 1e3 * seconds / static_cast<double>(t.scans) : 0.0);
         r.stage(s, "mpts_per_s", seconds > 0 ? 1e-6 * static_cast<double>(t.points_integrated) / seconds : 0.0);
         std::ostringstream os;
@@ -151,7 +197,9 @@ public:
 private:
     double voxel_size_m_ = 0.10;
     std::string truncation_mode_;
-    double min_m_ = 0.10, max_m_ = 0.30, k_ = 1.0, density_ref_ = 156.25, n_ref_ = 0.0;
+    double min_vox_ = 4.0, max_vox_ = 8.0;
+    double min_m_ = 0.0, max_m_ = 0.0, max_along_ray_m_ = 0.0, grazing_band_vox_ = 2.0;
+    double k_ = 1.0, density_ref_ = 156.25, n_ref_ = 0.0;
     int min_points_ = 5;
     double weight_floor_ = 0.1, max_weight_ = 100.0;
     bool space_carving_ = false;

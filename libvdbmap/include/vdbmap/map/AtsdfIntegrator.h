@@ -62,19 +62,26 @@ struct IntegrationStats {
 
 /// Adaptive TSDF integration into a VoxelMap (paper Sec. 4, on OpenVDB).
 ///
-/// Per scan:
-///  1. points are checked (non-finite, at the origin, absurd range: counted and skipped) and
-///     binned by 8^3 block in scan order;
-///  2. each block's batch statistics are merged into its BlockEntry (paper Eq. (1)), then its
-///     plane (Eq. (2), (3)) and eps (Eq. (4)) are recomputed: a point uses the eps and normal
-///     of its own block AFTER the current scan's merge;
-///  3. for every point, the voxels whose centre lies within [-eps, +eps] of the point along its
-///     ray (DDA) get sdf = n . (v - p) (the distance to the block's plane; along the ray when
-///     the block is degenerate), clamped to [-eps, eps], with weight
-///     w = incidenceWeight * behindSurfaceFactor, and the running average
-///     D' = (W D + w d) / (W + w), W' = min(W + w, max_weight);
-///  4. the leaves no scan of the last `working_set_scans` could update move to the map's
-///     compact store (VoxelMap).
+/// Per scan (each phase a function of AtsdfIntegrator.cpp's ScanPass):
+///  1. bin: points are checked (non-finite, at the origin, absurd range: counted and skipped)
+///     and binned by 8^3 block in scan order;
+///  2. mergeStatistics: each block's batch statistics (batchStatsIndexed) are merged into its
+///     BlockEntry (paper Eq. (1)), then its plane (Eq. (2), (3)) and eps (Eq. (4)) are
+///     recomputed: a point uses the eps of its own block AFTER the current scan's merge;
+///     borrowNormals: the normal used for a block's points is its own plane's; a degenerate
+///     block borrows the n-weighted mean of its 26 neighbours' valid normals (re-oriented
+///     towards the sensor), and only without any valid neighbour falls back to the ray
+///     direction (sdf along the ray, incidence weight 1);
+///     planSegments: each point's segment along its ray, t in [-front, back] around the point
+///     (rayBandFor, Truncation.h): [-eps, eps] in the paper and fixed modes; in the adaptive
+///     mode at least b = grazing_band_m across the surface (b / |n . d| along the ray, in front
+///     up to L_max, behind max(eps, b) but at most b across the surface);
+///  3. allocate the leaves the segments cross; integrate: every voxel v the segment pierces
+///     (DDA) gets sdf = n . (v - p) (the distance to the block's plane), clamped to
+///     [-eps, eps], with weight w = incidenceWeight * behindSurfaceFactor, and the running
+///     average D' = (W D + w d) / (W + w), W' = min(W + w, max_weight); carve (optional);
+///  4. retire: the leaves no scan of the last `working_set_scans` could update move to the
+///     map's compact store (VoxelMap).
 ///
 /// Parallel (TBB) and deterministic: phases 1 and 2 are parallel over points / blocks; phase 3
 /// groups blocks into cells twice as wide as the update reach (map/CellColouring.h) and runs the
@@ -110,6 +117,7 @@ private:
     AtsdfConfig config_;
     IntegrationStats totals_;
     struct Scratch;
+    class ScanPass;  ///< one scan's phases (AtsdfIntegrator.cpp)
     /// Per-scan buffers, reused across scans (no allocation or page faults in steady state).
     std::unique_ptr<Scratch> scratch_;
 };

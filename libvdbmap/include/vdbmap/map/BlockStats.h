@@ -22,6 +22,13 @@ struct BlockStats {
 /// Batch statistics of `points` (same convention as BlockStats). Empty input: n = 0.
 BlockStats batchStats(const std::vector<Vec3d>& points);
 
+/// Batch statistics of points[index[0]], ..., points[index[count - 1]] (same convention as
+/// batchStats) in one pass over the points: sums of the points shifted by the first one, then
+/// C = (S - n m m^T) / (n - 1) with m the shifted mean. Exact up to rounding, without the
+/// cancellation of the unshifted one-pass form when the points lie close together (one block)
+/// far from the origin. What the integrator merges per block and scan. count = 0: n = 0.
+BlockStats batchStatsIndexed(const Vec3f* points, const std::uint32_t* index, std::size_t count);
+
 /// Paper Eq. (1): merge of (n1, E_mu^1, C_sigma^1) and (n2, E_mu^2, C_sigma^2) into the
 /// statistics of the union of both point sets. Either side may be empty (n = 0).
 BlockStats mergeStats(const BlockStats& a, const BlockStats& b);

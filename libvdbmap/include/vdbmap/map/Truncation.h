@@ -7,15 +7,21 @@
 
 namespace vdbmap {
 
-/// How the truncation distance eps is chosen.
+/// How the truncation distance eps is chosen and where the band of a measurement lies.
 enum class TruncationMode {
-    Adaptive,  ///< per block, paper Eq. (4)
-    Fixed,     ///< eps = truncation_max_m everywhere (same code path, for comparisons)
+    /// The default. eps per block from paper Eq. (4) (as Paper), and a band that keeps a width
+    /// across the surface (rayBandFor; n the block normal, d the ray, b = grazing_band_m): a
+    /// grazing surface (the road seen from a car) keeps a band of b across it and its updates
+    /// reach along the surface towards the next ring, where the ray band of Paper/Fixed spans
+    /// only eps |n . d| across it.
+    Adaptive,
+    Paper,  ///< per block, paper Eq. (4), band [-eps, eps] along the ray
+    Fixed,  ///< eps = truncation_max_m everywhere, band along the ray (same code path)
 };
 
-/// Parses "adaptive" / "fixed". Throws ConfigError naming the bad value.
+/// Parses "adaptive" / "paper" / "fixed". Throws ConfigError naming the bad value.
 TruncationMode parseTruncationMode(const std::string& text);
-/// "adaptive" / "fixed".
+/// "adaptive" / "paper" / "fixed".
 const char* truncationModeName(TruncationMode mode);
 
 /// Parameters of the truncation distance.
@@ -29,6 +35,12 @@ struct TruncationParams {
     /// The paper's n enters as n / n_ref, so k is unitless. The stage derives n_ref from a
     /// surface density (referencePointsForDensity) so that eps adapts alike at every voxel size.
     double reference_points = 100.0;
+    /// Adaptive mode: L_max, the cap of the update's half-length along a grazing ray (m);
+    /// 0 = 2 * max_m. Bounds the work per point and how far a plane is extrapolated.
+    double max_along_ray_m = 0.0;
+    /// Adaptive mode: b, the least half-width of the band across a surface (along its normal),
+    /// in metres (the stage gives it in voxels: grazing_band_voxels * voxel).
+    double grazing_band_m = 0.2;
 };
 
 /// n_ref of an 8^3 block of edge 8 * voxel_size_m from a reference density of measurement
@@ -36,14 +48,36 @@ struct TruncationParams {
 /// the block holds at that density. 156.25 / m^2 gives 100 at 0.10 m voxels, 6.25 at 0.025 m.
 double referencePointsForDensity(double density_pts_m2, double voxel_size_m);
 
-/// Throws ConfigError if the parameters are not finite, min <= 0, max < min, k < 0 or
-/// reference_points <= 0. `who` prefixes the message (stage name).
+/// Throws ConfigError if the parameters are not finite, min <= 0, max < min, k < 0,
+/// reference_points <= 0 or max_along_ray_m < 0 (or, when set, < max_m). `who` prefixes the
+/// message (stage name).
 void validateTruncation(const TruncationParams& params, const std::string& who);
 
 /// Paper Eq. (4) with n relative to n_ref:
 ///   eps = clamp(max(eps_min, k * P_flat / (n / n_ref) * eps_max), eps_min, eps_max).
 /// Degenerate blocks (plane.valid false: too few, collinear or identical points) get eps_max:
 /// a sparse block needs the large truncation for completeness. Fixed mode: eps_max.
+/// Adaptive and Paper modes share this eps; they differ in the direction it is measured in.
 double truncationFor(const TruncationParams& params, const PlaneEstimate& plane, double n);
+
+/// L_max of the adaptive mode (max_along_ray_m, or 2 * max_m when 0).
+double maxAlongRay(const TruncationParams& params);
+
+/// The extent of a point's update segment along its ray: t in [-front_m, back_m] around the
+/// point (front: towards the sensor).
+struct RayBand {
+    double front_m = 0.0, back_m = 0.0;
+};
+
+/// The segment of a point whose block has `eps_m`, with cos_incidence = |n . d| (n: the normal
+/// used for the point, d: the unit ray direction; 1 when the point has no normal):
+///   Adaptive:      front = min(max(eps, b / c), L_max), back = min(max(eps, b), b / c)
+///                  (b = grazing_band_m: the band spans at least b across the surface; it is
+///                  widened only in front, in the free space the ray crossed)
+///   Paper, Fixed:  front = back = eps                (the band along the ray)
+RayBand rayBandFor(const TruncationParams& params, double eps_m, double cos_incidence);
+
+/// The longest half-length any point can get (the update reach of the integrator).
+double maxHalfLength(const TruncationParams& params);
 
 }  // namespace vdbmap

@@ -36,6 +36,31 @@ double triangleArea(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
     return 0.5 * static_cast<double>((b - a).cross(c - a).norm());
 }
 
+double shareBelow(const std::vector<float>& d, double tau) {
+    if (d.empty()) return 0.0;
+    return static_cast<double>(std::count_if(d.begin(), d.end(), [&](float x) { return x < tau; })) /
+           static_cast<double>(d.size());
+}
+
+std::vector<ClassCompleteness> perClassCompleteness(const std::vector<int>& point_class,
+                                                    const std::vector<float>& comp,
+                                                    const std::vector<double>& tau_m) {
+    std::vector<std::vector<float>> by_class(256);
+    for (std::size_t i = 0; i < comp.size(); ++i)
+        if (point_class[i] >= 0 && point_class[i] < 256)
+            by_class[static_cast<std::size_t>(point_class[i])].push_back(comp[i]);
+    std::vector<ClassCompleteness> out;
+    for (std::size_t c = 0; c < by_class.size(); ++c) {
+        if (by_class[c].empty()) continue;
+        ClassCompleteness cc;
+        cc.class_id = static_cast<int>(c);
+        for (double tau : tau_m) cc.recall.push_back(shareBelow(by_class[c], tau));
+        cc.completeness = distanceStats(std::move(by_class[c]));
+        out.push_back(std::move(cc));
+    }
+    return out;
+}
+
 }  // namespace
 
 void triMeshArrays(const TriMesh& mesh, std::vector<Vec3f>& vertices,
@@ -173,6 +198,12 @@ GeometryMetrics evaluateGeometry(const std::vector<Vec3f>& pred_vertices,
     }
     m.pred_samples_used = acc.size();
 
+    const std::vector<std::uint8_t>& face_class = options.gt_face_class;
+    if (!face_class.empty() && face_class.size() != gt.numTriangles()) {
+        throw InvalidInput("evaluateGeometry: face classes have " + std::to_string(face_class.size()) +
+                           " entries for " + std::to_string(gt.numTriangles()) +
+                           " ground-truth triangles");
+    }
     std::vector<Vec3f> gt_points;
     if (mask.empty()) {
         gt_points = gt_observed_points;
@@ -182,6 +213,17 @@ GeometryMetrics evaluateGeometry(const std::vector<Vec3f>& pred_vertices,
         for (std::size_t i = 0; i < gt_observed_points.size(); ++i) {
             if (point_in[i]) gt_points.push_back(gt_observed_points[i]);
         }
+    }
+    // The class of each scored observed point: that of its nearest ground-truth triangle.
+    std::vector<int> point_class;
+    if (!face_class.empty()) {
+        point_class.assign(gt_points.size(), -1);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, gt_points.size(), 512),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                              for (std::size_t i = r.begin(); i != r.end(); ++i)
+                                  if (auto cp = gt.closestPoint(gt_points[i], kDistanceCap))
+                                      point_class[i] = face_class[cp->face];
+                          });
     }
     m.gt_points_used = gt_points.size();
     std::vector<float> comp(gt_points.size(), kDistanceCap);
@@ -205,6 +247,7 @@ GeometryMetrics evaluateGeometry(const std::vector<Vec3f>& pred_vertices,
                        : 0.0;
         m.fscores.push_back(f);
     }
+    if (!point_class.empty()) m.per_class = perClassCompleteness(point_class, comp, options.tau_m);
     m.accuracy = distanceStats(acc);
     m.completeness = distanceStats(comp);
     m.chamfer_l1 = 0.5 * (m.accuracy.mean + m.completeness.mean);

@@ -44,6 +44,17 @@ struct GeometryEvalOptions {
     /// observed points whose nearest ground-truth triangle is flagged are scored, e.g. the
     /// faces of one class (the SUV without its ground plane).
     std::vector<char> gt_face_mask;
+    /// Optional class id per ground-truth triangle (empty = none): completeness and recall are
+    /// then also reported per class of the observed points' nearest ground-truth triangle
+    /// (GeometryMetrics::per_class), e.g. the recall of the road and the sidewalk.
+    std::vector<std::uint8_t> gt_face_class;
+};
+
+/// Completeness of the observed ground-truth points of one class.
+struct ClassCompleteness {
+    int class_id = 0;
+    DistanceStats completeness;  ///< observed points of the class -> prediction mesh
+    std::vector<double> recall;  ///< share of them within each tau (GeometryEvalOptions::tau_m)
 };
 
 /// Precision, recall and F-score at one threshold.
@@ -62,6 +73,8 @@ struct GeometryMetrics {
     std::size_t pred_samples_used = 0;  ///< of those, near observed ground truth (and masked in)
     std::size_t gt_points_used = 0;     ///< observed points scored for completeness
     std::size_t pred_faces = 0;
+    /// Per class (ascending id), when GeometryEvalOptions::gt_face_class is given.
+    std::vector<ClassCompleteness> per_class;
 };
 
 /// Area-uniform random samples on a triangle mesh (deterministic for `seed`): about

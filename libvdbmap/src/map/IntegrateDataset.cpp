@@ -1,0 +1,60 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "vdbmap/map/IntegrateDataset.h"
+
+#include <future>
+#include <utility>
+
+#include "vdbmap/core/Timer.h"
+#include "vdbmap/map/AtsdfIntegrator.h"
+
+namespace vdbmap {
+
+namespace {
+
+struct LoadedScan {
+    PointCloud cloud;
+    ScanReadStats stats;
+};
+
+LoadedScan load(const Dataset& dataset, std::size_t i) {
+    LoadedScan s;
+    s.cloud = dataset.loadScan(i, &s.stats);
+    return s;
+}
+
+void add(ScanReadStats& total, const ScanReadStats& s) {
+    total.points_read += s.points_read;
+    total.dropped_non_finite += s.dropped_non_finite;
+    total.dropped_range += s.dropped_range;
+}
+
+}  // namespace
+
+DatasetIntegration integrateDataset(const Dataset& dataset, AtsdfIntegrator& integrator,
+                                    const std::function<void()>& on_scan, bool read_ahead) {
+    DatasetIntegration out;
+    Timer total;
+    const std::size_t n = dataset.numFrames();
+    std::future<LoadedScan> next;
+    if (read_ahead && n > 0) next = std::async(std::launch::async, load, std::cref(dataset), 0);
+    for (std::size_t i = 0; i < n; ++i) {
+        LoadedScan scan;
+        if (read_ahead) {
+            Timer wait;
+            scan = next.get();
+            out.read_wait_s += wait.elapsedSeconds();
+            if (i + 1 < n) next = std::async(std::launch::async, load, std::cref(dataset), i + 1);
+        } else {
+            Timer wait;
+            scan = load(dataset, i);
+            out.read_wait_s += wait.elapsedSeconds();
+        }
+        add(out.read, scan.stats);
+        integrator.integrateScan(scan.cloud.points, dataset.frame(i).T_W_L);
+        if (on_scan) on_scan();
+    }
+    out.seconds = total.elapsedSeconds();
+    return out;
+}
+
+}  // namespace vdbmap

@@ -1,0 +1,114 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <openvdb/math/Coord.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <vector>
+
+#include "map/RayTraversal.h"
+#include "vdbmap/map/AtsdfIntegrator.h"
+#include "vdbmap/map/BlockStats.h"
+#include "vdbmap/map/MeasurementWeight.h"
+#include "vdbmap/map/Truncation.h"
+
+namespace vdbmap::test {
+
+/// A slow, serial reference of AtsdfIntegrator (paper Sec. 4), written to be read: ordered
+/// maps, double arithmetic, one block and one point after another, no packing, no leaves, no
+/// colouring. The oracle of tests/unit/ReferenceIntegratorTest.cpp.
+class ReferenceIntegrator {
+public:
+    struct Voxel {
+        double sdf = 0.0, weight = 0.0;
+    };
+    struct Block {
+        BlockStats stats;
+        PlaneEstimate plane;
+        double eps = 0.0;
+    };
+
+    ReferenceIntegrator(double voxel_m, const AtsdfConfig& config) : vs_(voxel_m), c_(config) {}
+
+    void integrateScan(const std::vector<Vec3f>& points_L, const Isometry3d& T_W_L) {
+        const Vec3d sensor = T_W_L.translation();
+        // 1. The valid points of each block, in scan order (the world points in float, as the
+        //    integrator transforms them).
+        const Eigen::Isometry3f T = T_W_L.cast<float>();
+        std::map<openvdb::Coord, std::vector<Vec3d>> scan;
+        for (const Vec3f& p_L : points_L) {
+            const Vec3f p = T * p_L;
+            if (!p.allFinite()) continue;
+            const double range = (p.cast<double>() - sensor).norm();
+            if (range < c_.min_range_m || range > c_.max_range_m) continue;
+            const float inv = static_cast<float>(1.0 / vs_);
+            const openvdb::Coord v(static_cast<int>(std::floor(p.x() * inv + 0.5f)),
+                                   static_cast<int>(std::floor(p.y() * inv + 0.5f)),
+                                   static_cast<int>(std::floor(p.z() * inv + 0.5f)));
+            scan[openvdb::Coord(v.x() >> 3, v.y() >> 3, v.z() >> 3)].push_back(p.cast<double>());
+        }
+        // 2. Eq. (1) merge, plane (Eq. 2, 3) and eps (Eq. 4) of every block of the scan.
+        for (const auto& [key, pts] : scan) {
+            Block& b = blocks_[key];
+            b.stats = mergeStats(b.stats, batchStats(pts));
+            b.plane = estimatePlane(b.stats, sensor, c_.min_points_for_pca, 0.25 * vs_);
+            b.eps = truncationFor(c_.truncation, b.plane, b.stats.n);
+        }
+        // 3. Every point updates the voxels its segment pierces.
+        for (const auto& [key, pts] : scan) {
+            const Block& b = blocks_[key];
+            const Vec3d normal = normalOf(key, sensor);
+            for (const Vec3d& p : pts) updateAlongRay(p, sensor, normal, b.eps);
+        }
+    }
+
+    const std::map<openvdb::Coord, Voxel>& voxels() const { return voxels_; }
+
+private:
+    /// The block's own normal; a degenerate block's: the n-weighted mean of its 26 neighbours'
+    /// valid normals, each turned towards the sensor; none: zero (the ray direction is used).
+    Vec3d normalOf(const openvdb::Coord& key, const Vec3d& sensor) const {
+        const Block& b = blocks_.at(key);
+        if (b.plane.valid) return b.plane.normal;
+        Vec3d sum = Vec3d::Zero();
+        for (int dx = -1; dx <= 1; ++dx)
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dz = -1; dz <= 1; ++dz) {
+                    const auto it = blocks_.find(key.offsetBy(dx, dy, dz));
+                    if (it == blocks_.end() || !it->second.plane.valid) continue;
+                    Vec3d n = it->second.plane.normal;
+                    if (n.dot(sensor - it->second.stats.mean) < 0.0) n = -n;
+                    sum += it->second.stats.n * n;
+                }
+        return sum.norm() > 0.0 ? Vec3d(sum.normalized()) : Vec3d::Zero();
+    }
+
+    void updateAlongRay(const Vec3d& p, const Vec3d& sensor, const Vec3d& block_normal, double eps) {
+        const Vec3d dir = (p - sensor).normalized();
+        const bool has_normal = block_normal.squaredNorm() > 0.0;
+        const Vec3d n = has_normal ? block_normal : Vec3d(-dir);
+        const double w_inc = has_normal ? incidenceWeight(n, sensor, p, c_.weight_floor) : 1.0;
+        // Without a normal (isolated degenerate block) the band is [-eps, eps] along the ray.
+        const RayBand band = has_normal ? rayBandFor(c_.truncation, eps, std::abs(n.dot(dir)))
+                                        : RayBand{eps, eps};
+        detail::traverseSegment(p - band.front_m * dir, dir, band.front_m + band.back_m, 1.0 / vs_,
+                                [&](const openvdb::Coord& v) {
+            const Vec3d centre(v.x() * vs_, v.y() * vs_, v.z() * vs_);
+            const double sdf = std::clamp(n.dot(centre - p), -eps, eps);
+            const double w = w_inc * behindSurfaceFactor(sdf, eps, vs_);
+            if (!(w > 0.0)) return;
+            Voxel& x = voxels_[v];
+            x.sdf = (x.weight * x.sdf + w * sdf) / (x.weight + w);
+            x.weight = std::min(x.weight + w, c_.max_weight);
+        });
+    }
+
+    double vs_;
+    AtsdfConfig c_;
+    std::map<openvdb::Coord, Block> blocks_;
+    std::map<openvdb::Coord, Voxel> voxels_;
+};
+
+}  // namespace vdbmap::test

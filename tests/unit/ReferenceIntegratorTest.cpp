@@ -1,0 +1,111 @@
+// SPDX-License-Identifier: Apache-2.0
+// The parallel integrator against the slow serial reference (tests/support/ReferenceIntegrator.h),
+// voxel by voxel, after a few scans of an analytic scene, in every truncation mode.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "support/MapTestUtil.h"
+#include "support/ReferenceIntegrator.h"
+#include "support/SimLidar.h"
+#include "vdbmap/map/AtsdfIntegrator.h"
+#include "vdbmap/map/VoxelMap.h"
+
+using namespace vdbmap;
+using namespace vdbmap::test;
+
+namespace {
+
+constexpr double kVoxel = 0.1;
+
+struct Comparison {
+    std::size_t parallel = 0, reference = 0, common = 0, compared = 0, differing = 0;
+    double max_sdf_diff = 0.0, max_rel_weight_diff = 0.0;
+};
+
+AtsdfConfig configFor(TruncationMode mode) {
+    AtsdfConfig c;
+    c.truncation.mode = mode;
+    c.truncation.min_m = 0.2;
+    c.truncation.max_m = 0.4;
+    c.max_weight = 100.0;  // the default (quantum 0.0015); not reached in 3 scans (checked below)
+    return c;
+}
+
+/// Runs both integrators on the same scans (`reference_mode` lets a test feed the reference a
+/// different mode) and compares every observed voxel.
+Comparison compare(TruncationMode mode, TruncationMode reference_mode) {
+    SimScene scene;
+    scene.add(SimPlane{Vec3d(0, 0, -1.73), Vec3d::UnitZ()});
+    scene.add(SimSphere{Vec3d(4.2, 1.1, -0.5), 1.0});
+    scene.add(SimBox{Vec3d(-6, -3, -1.73), Vec3d(-3.5, -1.2, 0.2)});
+    SimLidarConfig lidar;
+    lidar.azimuth_steps = 512;
+    lidar.noise_sigma_m = 0.01;
+    VoxelMap map(kVoxel, 0.4f, 100.0f);
+    AtsdfIntegrator integrator(map, configFor(mode));
+    ReferenceIntegrator reference(kVoxel, configFor(reference_mode));
+    const std::vector<Isometry3d> poses = {poseAt(Vec3d(0, 0, 0)), poseAt(Vec3d(0.8, 0.1, 0)),
+                                           poseAt(Vec3d(1.6, 0.2, 0))};
+    for (std::size_t i = 0; i < poses.size(); ++i) {
+        const auto points_L = simulateScan(scene, lidar, poses[i], i);
+        integrator.integrateScan(points_L, poses[i]);
+        reference.integrateScan(points_L, poses[i]);
+    }
+    Comparison c;
+    c.reference = reference.voxels().size();
+    const TsdfCodec& codec = map.codec();
+    map.forEachVoxel([&](const openvdb::Coord& ijk, std::uint32_t value) {
+        const double sdf = codec.sdf(value), weight = codec.weight(value);
+        if (!(weight > 0.0)) return;
+        ++c.parallel;
+        const auto it = reference.voxels().find(ijk);
+        if (it == reference.voxels().end()) return;
+        ++c.common;
+        // Values are compared where the weight is well above the 16-bit weight quantum (0.015
+        // here): a positive weight never packs to 0, so tiny weights round up and dominate the
+        // running average of voxels at the end of the behind-surface drop-off.
+        if (it->second.weight < 1.0) return;
+        ++c.compared;
+        const double dsdf = std::abs(sdf - it->second.sdf);
+        const double dw = std::abs(weight - it->second.weight) / it->second.weight;
+        if (dsdf > 2e-3 || dw > 1e-2) ++c.differing;
+        c.max_sdf_diff = std::max(c.max_sdf_diff, std::abs(sdf - it->second.sdf));
+        c.max_rel_weight_diff =
+            std::max(c.max_rel_weight_diff, std::abs(weight - it->second.weight) / it->second.weight);
+    });
+    return c;
+}
+
+}  // namespace
+
+TEST_CASE("The parallel integrator matches the serial reference voxel by voxel",
+          "[tsdf][reference]") {
+    for (TruncationMode mode : {TruncationMode::Adaptive, TruncationMode::Paper, TruncationMode::Fixed}) {
+        const Comparison c = compare(mode, mode);
+        INFO("mode " << truncationModeName(mode) << ": parallel " << c.parallel << " reference "
+                     << c.reference << " common " << c.common << " compared " << c.compared
+                     << " differing " << c.differing << " max |dsdf| " << c.max_sdf_diff
+                     << " max rel |dW| " << c.max_rel_weight_diff);
+        REQUIRE(c.reference > 50000);
+        // The same voxels (float vs double ray walks may differ where a segment ends within
+        // rounding of a voxel face: at most 1 in 10^3; measured 5 in 10^4).
+        CHECK(static_cast<double>(c.common) >= 0.999 * static_cast<double>(c.reference));
+        CHECK(static_cast<double>(c.common) >= 0.999 * static_cast<double>(c.parallel));
+        // Weight >= 1 on a good share of the voxels (measured 41-45 %), so the values are tested.
+        CHECK(static_cast<double>(c.compared) >= 0.3 * static_cast<double>(c.common));
+        // The same values up to the 16-bit packing and the order of the running average, on
+        // 99 % of the voxels (measured: 99.5-99.6 %). The rest: blocks whose plane estimate
+        // flips between valid and degenerate with the rounding of the one-pass batch statistics
+        // (another normal), and weights below the packing's quantum.
+        CHECK(static_cast<double>(c.differing) <= 0.01 * static_cast<double>(c.compared));
+    }
+}
+
+TEST_CASE("The comparison tells the truncation modes apart", "[tsdf][reference]") {
+    // Adaptive (band along the normal) against a reference in paper mode (band along the ray):
+    // the grazing ground gets far more voxels, so the comparison must fail.
+    const Comparison c = compare(TruncationMode::Adaptive, TruncationMode::Paper);
+    INFO("parallel " << c.parallel << " reference " << c.reference << " common " << c.common);
+    CHECK(static_cast<double>(c.parallel) > 1.1 * static_cast<double>(c.reference));
+}
