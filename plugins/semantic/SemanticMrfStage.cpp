@@ -413,6 +413,12 @@ void SemanticMrfStage::run(Context& ctx) {
     const FaceVotes votes = combineVotes(images.votes, lidar.votes, lidar_weight_, &sources);
     images.votes = FaceVotes();
     lidar.votes = FaceVotes();
+    if (votes.numFaces() == 0 && ctx.hasTile()) {
+        // A tile that no view sees and no labelled point reaches: nothing to label here.
+        logInfo(stage + ": no source sees tile " + ctx.tile().name() + ": not labelled");
+        report.stage(stage, "skipped", std::string("no view or labelled point sees the tile"));
+        return;
+    }
 
     // 2. MRF fusion with the geometry-aware (or the paper's uniform) smoothness.
     Timer step;

@@ -9,7 +9,7 @@
 #include "vdbmap/Error.h"
 #include "vdbmap/io/Dataset.h"
 #include "vdbmap/map/VoxelMap.h"
-#include "vdbmap/pipeline/OptionSpec.h"
+#include "vdbmap/core/OptionSpec.h"
 
 namespace vdbmap {
 namespace {
