@@ -213,7 +213,15 @@ void runEval(const EvalArgs& args, int& exit_code) {
         throw vdbmap::IoError("vdbmap eval: " + gt_mesh_path.string() + ": missing");
     }
     std::vector<std::uint8_t> gt_labels;
-    const vdbmap::TriMesh gt_mesh = vdbmap::readMeshPly(gt_mesh_path, &gt_labels);
+    vdbmap::PlyReadStats gt_read;
+    const vdbmap::TriMesh gt_mesh = vdbmap::readMeshPly(gt_mesh_path, &gt_labels, &gt_read);
+    if (gt_read.rejected_triangles > 0) {  // scores against part of the truth would mislead
+        throw vdbmap::IoError("vdbmap eval: ground truth " + gt_mesh_path.string() + " lost " +
+                              std::to_string(gt_read.rejected_triangles) + " of " +
+                              std::to_string(gt_read.triangles) +
+                              " triangles on reading (non-manifold or repeated corners); "
+                              "refusing to score against an incomplete ground truth");
+    }
     std::vector<vdbmap::Vec3f> gt_vertices;
     std::vector<std::array<std::uint32_t, 3>> gt_triangles;
     std::vector<std::uint32_t> gt_face_index;
@@ -411,13 +419,7 @@ void runEval(const EvalArgs& args, int& exit_code) {
     }
 
     if (!args.json_path.empty()) {
-        vdbmap::AtomicFile file(args.json_path);
-        {
-            std::ofstream out(file.tempPath());
-            out << report.dump(2) << "\n";
-            if (!out) throw vdbmap::IoError(args.json_path + ": write failed");
-        }
-        file.commit();
+        vdbmap::writeFileAtomically(args.json_path, report.dump(2) + "\n");
     }
     if (!args.quiet) std::cout << table.str();
     exit_code = 0;
