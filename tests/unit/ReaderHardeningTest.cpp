@@ -81,7 +81,8 @@ TEST_CASE("readers: NaN and huge counts or indices are errors, not casts",
     CHECK_THROWS_WITH(LabelSet::fromFile(dir / "colour.txt"), Contains("0..255"));
 }
 
-TEST_CASE("--set stages.<index> with a huge index is a config error", "[yaml][hardening]") {
+TEST_CASE("pipeline: a stages.<index> override with a huge index is a config error",
+          "[yaml][hardening]") {
     const std::string yaml = "stages:\n  - stage: integrate.atsdf\n";
     CHECK_THROWS_AS(Pipeline::fromString(yaml, "t.yaml", ".",
                                          {"stages.99999999999999999999999.voxel_size_m=1"}),
