@@ -26,6 +26,15 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
+/// Removes the work folder when the test process ends.
+struct RemoveAtExit {
+    fs::path dir;
+    ~RemoveAtExit() {
+        std::error_code ec;
+        fs::remove_all(dir, ec);
+    }
+};
+
 fs::path workDir() {
     static const fs::path dir = [] {
         fs::path d = fs::temp_directory_path() / ("vdbmap_fault_" + std::to_string(::getpid()));
@@ -39,6 +48,7 @@ fs::path workDir() {
                "  - {stage: texture.mrf, mrf: false, global_adjustment: false}\n";
         return d;
     }();
+    static const RemoveAtExit cleanup{dir};
     return dir;
 }
 

@@ -14,6 +14,15 @@ namespace fs = std::filesystem;
 
 namespace {
 
+/// Removes the work folder when the test process ends.
+struct RemoveAtExit {
+    fs::path dir;
+    ~RemoveAtExit() {
+        std::error_code ec;
+        fs::remove_all(dir, ec);
+    }
+};
+
 fs::path workDir() {
     static const fs::path dir = [] {
         fs::path d = fs::temp_directory_path() / ("vdbmap_plydrop_" + std::to_string(::getpid()));
@@ -21,6 +30,7 @@ fs::path workDir() {
         fs::create_directories(d);
         return d;
     }();
+    static const RemoveAtExit cleanup{dir};
     return dir;
 }
 
