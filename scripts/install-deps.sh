@@ -12,6 +12,7 @@ PACKAGES=(
     libeigen3-dev libopencv-dev libopenmesh-dev libcgal-dev
     libyaml-cpp-dev catch2 libembree-dev
     libspdlog-dev libfmt-dev libcli11-dev nlohmann-json3-dev
+    liblzf-dev
 )
 
 missing=()

@@ -11,6 +11,7 @@
 #include <optional>
 #include <thread>
 
+#include "StagedDir.h"
 #include "vdbmap/Error.h"
 #include "vdbmap/core/Log.h"
 #include "vdbmap/sim/SimSequence.h"
@@ -133,7 +134,10 @@ int main(int argc, char** argv) {
                                 "has no class-20 object");
             }
         }
-        const vdbmap::SimSummary s = vdbmap::writeSimSequence(options, out_dir);
+        // The sequence appears whole or not at all (a failed or killed run leaves nothing).
+        vdbmap::sim::StagedDir staged(out_dir);
+        const vdbmap::SimSummary s = vdbmap::writeSimSequence(options, staged.path());
+        staged.commit();
         if (!options.quiet) {
             std::cout << "wrote " << out_dir << ": " << s.frames << " frames, " << s.points
                       << " LiDAR points, " << s.gt_faces << " ground-truth faces, "

@@ -183,7 +183,15 @@ GroundTruth loadGroundTruth(const fs::path& gt) {
     GroundTruth g;
     g.mesh_path = gt / "mesh.ply";
     if (!fs::exists(g.mesh_path)) throw vdbmap::IoError("vdbmap eval: " + g.mesh_path.string() + ": missing");
-    const vdbmap::TriMesh mesh = vdbmap::readMeshPly(g.mesh_path, &g.labels);
+    vdbmap::PlyReadStats read;
+    const vdbmap::TriMesh mesh = vdbmap::readMeshPly(g.mesh_path, &g.labels, &read);
+    if (read.rejected_triangles > 0) {  // scores against part of the truth would mislead
+        throw vdbmap::IoError("vdbmap eval: ground truth " + g.mesh_path.string() + " lost " +
+                              std::to_string(read.rejected_triangles) + " of " +
+                              std::to_string(read.triangles) +
+                              " triangles on reading (non-manifold or repeated corners); "
+                              "refusing to score against an incomplete ground truth");
+    }
     vdbmap::triMeshArrays(mesh, g.vertices, g.triangles, &g.face_index);
     g.raycaster = std::make_unique<vdbmap::Raycaster>(g.vertices, g.triangles);
     return g;
@@ -489,13 +497,7 @@ void textureTable(const TextureResult& r, std::ostringstream& table) {
 }
 
 void writeReport(const std::string& json_path, const nlohmann::json& report) {
-    vdbmap::AtomicFile file(json_path);
-    {
-        std::ofstream out(file.tempPath());
-        out << report.dump(2) << "\n";
-        if (!out) throw vdbmap::IoError(json_path + ": write failed");
-    }
-    file.commit();
+    vdbmap::writeFileAtomically(json_path, report.dump(2) + "\n");  // checked to the last byte
 }
 
 void runEval(const EvalArgs& args, int& exit_code) {

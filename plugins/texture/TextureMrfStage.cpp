@@ -281,7 +281,12 @@ void TextureMrfStage::run(Context& ctx) {
             throw IoError("texture.mrf: image of frame " + std::to_string(views[v].frame) +
                           " camera " + std::to_string(views[v].camera) + " disappeared");
         }
-        return readColorImage(*path);
+        cv::Mat image = readColorImage(*path);
+        requireImageSize(image, *path,
+                         {views[v].intrinsics.width, views[v].intrinsics.height},
+                         "camera '" + dataset.cameras()[views[v].camera].name +
+                             "' (the size of its first image)");
+        return image;
     };
     TextureResult result = textureMesh(mesh, views, vis, adjacency, load, options);
 

@@ -90,6 +90,14 @@ Isometry3d isometryFromRowMajor(const std::vector<double>& values, const std::st
     }
     Isometry3d T = Isometry3d::Identity();
     T.matrix().topRows<3>() = toMat34(values);
+    // Rigid transforms only: a scaled or sheared 3x3 is well-formed text but wrong data.
+    const Mat3d R = T.linear();
+    const double orthogonality = (R.transpose() * R - Mat3d::Identity()).cwiseAbs().maxCoeff();
+    if (!T.matrix().allFinite() || !(orthogonality < 1e-3) || !(R.determinant() > 0)) {
+        throw InvalidInput(what + ": the transform's left 3x3 is not a rotation (|R^T R - I| = " +
+                           std::to_string(orthogonality) + ", det = " +
+                           std::to_string(R.determinant()) + ")");
+    }
     return T;
 }
 

@@ -44,9 +44,17 @@ std::vector<std::filesystem::path> DatasetBuilder::listScans(const std::filesyst
     std::vector<std::filesystem::path> scans;
     std::error_code ec;
     for (const auto& entry : std::filesystem::directory_iterator(folder, ec)) {
-        if (entry.is_regular_file() && isPointCloudFile(entry.path())) {
-            scans.push_back(entry.path());
+        if (!isPointCloudFile(entry.path())) continue;
+        // A folder (or socket, fifo...) named like a scan is not skipped in silence: the
+        // frame count would quietly change.
+        std::error_code type_ec;
+        if (!entry.is_regular_file(type_ec)) {
+            throw IoError(what + " folder " + folder.string() + " holds '" +
+                          entry.path().filename().string() +
+                          "', which has a scan extension but is not a regular file (a folder?); "
+                          "move it away or rename it");
         }
+        scans.push_back(entry.path());
     }
     if (ec) throw IoError("cannot list " + folder.string() + ": " + ec.message());
     if (scans.empty()) {

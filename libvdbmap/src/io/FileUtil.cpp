@@ -86,10 +86,20 @@ std::ofstream openOutput(const std::filesystem::path& temp_path,
 }
 
 void closeOutput(std::ofstream& stream, const std::filesystem::path& final_path) {
-    stream.flush();
+    // errno of the failed write(2) (ENOSPC, EFBIG, EIO...): a write before this call, or
+    // the final flush.
+    int err = stream.fail() ? errno : 0;
+    if (!stream.fail()) {
+        errno = 0;
+        stream.flush();
+        if (stream.fail()) err = errno;
+    }
     stream.close();
     if (stream.fail()) {
-        throw IoError("write error on " + final_path.string() + " (disk full?)");
+        if (err == 0) err = errno;
+        throw IoError("write error on " + final_path.string() + ": " +
+                      (err != 0 ? std::string(std::strerror(err)) : std::string("disk full?")) +
+                      " (nothing was written there)");
     }
 }
 

@@ -34,9 +34,14 @@ cv::Mat readLabelImage(const std::filesystem::path& path) {
         throw IoError("unreadable semantic image (not a PNG or corrupt): " + path.string());
     }
     if (image.type() != CV_8UC1) {
-        throw IoError("semantic image must be 8-bit single channel (class ids), got " +
-                      std::to_string(image.channels()) + " channel(s) of depth " +
-                      std::to_string(image.depth()) + ": " + path.string());
+        const int bits = image.depth() == CV_8U || image.depth() == CV_8S     ? 8
+                         : image.depth() == CV_16U || image.depth() == CV_16S ? 16
+                                                                              : 32;
+        throw IoError(path.string() + ": a class-id (semantic) image must have one channel of "
+                      "8-bit ids, but read as stored (unchanged) it has " +
+                      std::to_string(image.channels()) +
+                      (image.channels() == 1 ? " channel" : " channels") + " of " +
+                      std::to_string(bits) + " bits; write it as an 8-bit grey PNG");
     }
     return image;
 }
@@ -55,6 +60,14 @@ void writePng(const std::filesystem::path& path, const cv::Mat& image) {
     if (!ok) throw IoError("cannot encode PNG " + path.string());
     writeFileAtomically(
         path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+}
+
+void requireImageSize(const cv::Mat& image, const std::filesystem::path& path,
+                      const cv::Size& expected, const std::string& expected_from) {
+    if (image.cols == expected.width && image.rows == expected.height) return;
+    throw IoError(path.string() + ": image is " + std::to_string(image.cols) + " x " +
+                  std::to_string(image.rows) + " pixels but " + expected_from + " is " +
+                  std::to_string(expected.width) + " x " + std::to_string(expected.height));
 }
 
 /// Image size from the file header only where possible (cv::imread decodes; acceptable here:

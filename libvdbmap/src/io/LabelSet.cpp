@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "vdbmap/io/LabelSet.h"
 
+#include <cmath>
 #include <sstream>
 
 #include "io/FileUtil.h"
@@ -77,8 +78,8 @@ LabelSet LabelSet::fromFile(const std::filesystem::path& path) {
         const std::size_t c2 = c1 == std::string_view::npos ? c1 : content.find(',', c1 + 1);
         if (c2 == std::string_view::npos) throw fail("missing comma");
         double id = 0.0;
-        if (!detail::parseDouble(detail::trim(content.substr(0, c1)), id) || id < 0 || id > 255 ||
-            id != static_cast<int>(id)) {
+        if (!detail::parseDouble(detail::trim(content.substr(0, c1)), id) || !(id >= 0 && id <= 255) ||
+            id != std::floor(id)) {  // NaN fails here, before any cast
             throw fail("class id is not an integer in 0..255");
         }
         const std::string name(detail::trim(content.substr(c1 + 1, c2 - c1 - 1)));
@@ -92,7 +93,7 @@ LabelSet LabelSet::fromFile(const std::filesystem::path& path) {
         label.id = static_cast<std::uint8_t>(id);
         label.name = name;
         for (int k = 0; k < 3; ++k) {
-            if (rgb[k] < 0 || rgb[k] > 255 || rgb[k] != static_cast<int>(rgb[k])) {
+            if (!(rgb[k] >= 0 && rgb[k] <= 255) || rgb[k] != std::floor(rgb[k])) {
                 throw fail("colour component out of 0..255");
             }
             label.rgb[k] = static_cast<std::uint8_t>(rgb[k]);

@@ -5,6 +5,7 @@
 #include "io/FileUtil.h"
 #include "io/PlyFormat.h"
 #include "vdbmap/Error.h"
+#include "vdbmap/core/Log.h"
 #include "vdbmap/io/AtomicFile.h"
 #include "vdbmap/io/MeshIO.h"
 
@@ -106,6 +107,12 @@ void writeMeshPly(const std::filesystem::path& path, const TriMesh& mesh,
 }
 
 TriMesh readMeshPly(const std::filesystem::path& path, std::vector<std::uint8_t>* face_labels) {
+    return readMeshPly(path, face_labels, nullptr);
+}
+
+TriMesh readMeshPly(const std::filesystem::path& path, std::vector<std::uint8_t>* face_labels,
+                    PlyReadStats* stats) {
+    PlyReadStats counts;
     const std::string bytes = detail::readWholeFile(path);
     const detail::PlyHeader header = detail::parsePlyHeader(bytes, path);
     TriMesh mesh;
@@ -161,9 +168,14 @@ TriMesh readMeshPly(const std::filesystem::path& path, std::vector<std::uint8_t>
             for (std::size_t k = 0; k < element.count; ++k) {
                 reader.read(element, scalars, lists);
                 const std::vector<double>& indices = lists[il];
+                if (ilabel >= 0 && !(scalars[ilabel] >= 0 && scalars[ilabel] <= 255)) {
+                    throw IoError(path.string() + ": PLY face " + std::to_string(k) +
+                                  " has label " + std::to_string(scalars[ilabel]) +
+                                  " (class ids are 0..255)");
+                }
                 corners.clear();
                 for (const double index : indices) {
-                    if (index < 0 || index >= static_cast<double>(handles.size())) {
+                    if (!(index >= 0 && index < static_cast<double>(handles.size()))) {
                         throw IoError(path.string() + ": PLY face " + std::to_string(k) +
                                       " refers to vertex " + std::to_string(index) + " of " +
                                       std::to_string(handles.size()));
@@ -172,8 +184,15 @@ TriMesh readMeshPly(const std::filesystem::path& path, std::vector<std::uint8_t>
                 }
                 // Fan triangulation of polygons; faces OpenMesh rejects (non-manifold) are
                 // skipped so that labels stay aligned with the faces that exist.
+                ++counts.file_faces;
                 for (std::size_t c = 1; c + 1 < corners.size(); ++c) {
-                    const auto fh = mesh.add_face(corners[0], corners[c], corners[c + 1]);
+                    ++counts.triangles;
+                    const bool repeated = corners[0] == corners[c] ||
+                                          corners[c] == corners[c + 1] ||
+                                          corners[0] == corners[c + 1];
+                    const auto fh = repeated ? TriMesh::FaceHandle()
+                                             : mesh.add_face(corners[0], corners[c], corners[c + 1]);
+                    if (!fh.is_valid()) ++counts.rejected_triangles;
                     if (fh.is_valid() && face_labels != nullptr) {
                         face_labels->push_back(
                             ilabel >= 0 ? static_cast<std::uint8_t>(scalars[ilabel]) : 255);
@@ -191,6 +210,13 @@ TriMesh readMeshPly(const std::filesystem::path& path, std::vector<std::uint8_t>
         }
         if (!any_label) face_labels->clear();
     }
+    if (counts.rejected_triangles > 0) {
+        logWarn(path.string() + ": " + std::to_string(counts.rejected_triangles) + " of " +
+                std::to_string(counts.triangles) +
+                " triangles were dropped (non-manifold or repeated corners; OpenMesh refuses "
+                "them)");
+    }
+    if (stats != nullptr) *stats = counts;
     return mesh;
 }
 

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <sstream>
@@ -148,7 +149,9 @@ ObjMesh readObj(const std::filesystem::path& path) {
                 }
                 const auto absolute = [&](double index, std::size_t count, const char* what) {
                     const double a = index < 0 ? static_cast<double>(count) + index : index - 1;
-                    if (index == 0 || a < 0 || a >= static_cast<double>(count)) {
+                    // Written so that NaN and fractions fail too (no UB in the cast).
+                    if (index == 0 || !(a >= 0 && a < static_cast<double>(count)) ||
+                        a != std::floor(a)) {
                         throw fail(std::string(what) + " index " + std::to_string(index) +
                                    " out of range (have " + std::to_string(count) + ")");
                     }

@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 
 #include "io/FileUtil.h"
 #include "io/Lzf.h"
@@ -83,8 +86,9 @@ PcdHeader parseHeader(const std::string& bytes, const std::filesystem::path& pat
         const std::vector<std::string> rest(tok.begin() + 1, tok.end());
         const auto count = [&]() {
             double v = 0;
-            if (rest.size() != 1 || !detail::parseDouble(rest[0], v) || v < 0 ||
-                v != static_cast<double>(static_cast<std::size_t>(v))) {
+            // NaN and values past 2^50 are refused before the cast (UB otherwise).
+            if (rest.size() != 1 || !detail::parseDouble(rest[0], v) || !(v >= 0) ||
+                v > 1e15 || v != std::floor(v)) {
                 throw fail("expected one non-negative integer");
             }
             return static_cast<std::size_t>(v);
@@ -111,7 +115,7 @@ PcdHeader parseHeader(const std::string& bytes, const std::filesystem::path& pat
         } else if (key == "COUNT") {
             for (const std::string& t : rest) {
                 double c = 0;
-                if (!detail::parseDouble(t, c) || c < 1 || c > 1e6 || c != static_cast<int>(c)) {
+                if (!detail::parseDouble(t, c) || !(c >= 1 && c <= 1e6) || c != std::floor(c)) {
                     throw fail("invalid COUNT '" + t + "' (expected a positive integer)");
                 }
             }
@@ -158,6 +162,9 @@ PcdHeader parseHeader(const std::string& bytes, const std::filesystem::path& pat
                 h.fields.push_back(f);
             }
             if (!h.have_width) throw fail("no WIDTH line before DATA");
+            if (h.height != 0 && h.width > std::numeric_limits<std::size_t>::max() / h.height) {
+                throw fail("WIDTH x HEIGHT overflows");
+            }
             if (!h.have_points) h.points = h.width * h.height;
             if (h.width * h.height != h.points) {
                 throw fail("WIDTH x HEIGHT = " + std::to_string(h.width * h.height) +
@@ -181,98 +188,117 @@ int findField(const PcdHeader& h, std::initializer_list<const char*> names) {
     return -1;
 }
 
-}  // namespace
-
-PointCloud readPcd(const std::filesystem::path& path) {
-    const std::string bytes = detail::readWholeFile(path);
-    const PcdHeader h = parseHeader(bytes, path);
-    const int fx = findField(h, {"x"}), fy = findField(h, {"y"}), fz = findField(h, {"z"});
-    if (fx < 0 || fy < 0 || fz < 0) {
-        throw IoError(path.string() + ": PCD has no x, y and z fields (FIELDS must include them)");
+/// The fields we keep (x, y, z and an optional intensity) and the cloud they fill.
+class PointSink {
+public:
+    PointSink(const PcdHeader& h, const std::filesystem::path& path) {
+        fx_ = findField(h, {"x"});
+        fy_ = findField(h, {"y"});
+        fz_ = findField(h, {"z"});
+        if (fx_ < 0 || fy_ < 0 || fz_ < 0) {
+            throw IoError(path.string() +
+                          ": PCD has no x, y and z fields (FIELDS must include them)");
+        }
+        fi_ = findField(h, {"intensity", "i", "reflectance", "remission"});
+        cloud_.points.resize(h.points);
+        if (fi_ >= 0) cloud_.intensity.resize(h.points);
     }
-    const int fi = findField(h, {"intensity", "i", "reflectance", "remission"});
-    const std::size_t n = h.points;
-    const std::size_t available = bytes.size() - h.data_offset;
-    // A corrupt POINTS must not make us allocate gigabytes: bound it by what the data can
-    // hold (ascii: 2 bytes per value at least; binary: point_step bytes; LZF: at most ~90x).
+    /// The fields that are read (intensity is -1 when absent).
+    std::array<int, 4> usedFields() const { return {fx_, fy_, fz_, fi_}; }
+    void store(std::size_t point, int field, double v) {
+        if (field == fx_) cloud_.points[point].x() = static_cast<float>(v);
+        if (field == fy_) cloud_.points[point].y() = static_cast<float>(v);
+        if (field == fz_) cloud_.points[point].z() = static_cast<float>(v);
+        if (field == fi_) cloud_.intensity[point] = static_cast<float>(v);
+    }
+    PointCloud take() { return std::move(cloud_); }
+
+private:
+    int fx_ = -1, fy_ = -1, fz_ = -1, fi_ = -1;
+    PointCloud cloud_;
+};
+
+/// A corrupt POINTS must not make us allocate gigabytes: bound it by what the data can hold
+/// (ascii: 2 bytes per value at least; binary: point_step bytes; LZF: at most ~90x).
+void checkPointCountFits(const PcdHeader& h, std::size_t available,
+                         const std::filesystem::path& path) {
     const std::size_t min_bytes_per_point = h.data == "ascii"    ? 2 * h.value_count
                                             : h.data == "binary" ? h.point_step
                                                                  : 1;
     const std::size_t max_points =
-        (h.data == "binary_compressed" ? 100 * available / h.point_step
+        (h.data == "binary_compressed" ? 100 * available / std::max<std::size_t>(1, h.point_step)
          : h.data == "ascii"           ? available + 1  // no separator after the last value
                                        : available) /
         std::max<std::size_t>(1, min_bytes_per_point);
-    if (n > max_points) {
-        throw IoError(path.string() + ": PCD header says POINTS " + std::to_string(n) +
+    if (h.points > max_points) {
+        throw IoError(path.string() + ": PCD header says POINTS " + std::to_string(h.points) +
                       " but the file has only " + std::to_string(available) + " bytes of " +
                       h.data + " data (truncated file or corrupt header)");
     }
-    PointCloud cloud;
-    cloud.points.resize(n);
-    if (fi >= 0) cloud.intensity.resize(n);
-    const auto store = [&](std::size_t point, int field, double v) {
-        if (field == fx) cloud.points[point].x() = static_cast<float>(v);
-        if (field == fy) cloud.points[point].y() = static_cast<float>(v);
-        if (field == fz) cloud.points[point].z() = static_cast<float>(v);
-        if (field == fi) cloud.intensity[point] = static_cast<float>(v);
-    };
-    const int used[4] = {fx, fy, fz, fi};
+}
 
-    if (h.data == "ascii") {
-        std::size_t pos = h.data_offset;
-        std::size_t line_number = 0;
-        for (std::size_t k = 0; k < h.data_offset; ++k) line_number += bytes[k] == '\n';
-        std::vector<double> values;
-        std::size_t point = 0;
-        while (point < n) {
-            if (pos >= bytes.size()) {
-                throw IoError(path.string() + ": PCD ascii data has " + std::to_string(point) +
-                              " points, header says POINTS " + std::to_string(n));
-            }
-            std::size_t end = bytes.find('\n', pos);
-            if (end == std::string::npos) end = bytes.size();
-            ++line_number;
-            const std::string_view line = std::string_view(bytes).substr(pos, end - pos);
-            pos = end + 1;
-            const std::vector<std::string> tok = detail::splitWhitespace(line);
-            if (tok.empty()) continue;
-            if (!detail::parseDoubles(tok, 0, values) || values.size() != h.value_count) {
-                throw IoError(detail::fileLine(path, line_number) + ": PCD ascii point " +
-                              std::to_string(point) + " needs " + std::to_string(h.value_count) +
-                              " numbers");
-            }
-            std::size_t value_index = 0;
-            for (std::size_t f = 0; f < h.fields.size(); ++f) {
-                store(point, static_cast<int>(f), values[value_index]);
-                value_index += h.fields[f].count;
-            }
-            ++point;
+/// DATA ascii: one point per non-empty line, value_count numbers each.
+void readAsciiData(const std::string& bytes, const PcdHeader& h, PointSink& sink,
+                   const std::filesystem::path& path) {
+    std::size_t pos = h.data_offset;
+    std::size_t line_number = 0;
+    for (std::size_t k = 0; k < h.data_offset; ++k) line_number += bytes[k] == '\n';
+    std::vector<double> values;
+    std::size_t point = 0;
+    while (point < h.points) {
+        if (pos >= bytes.size()) {
+            throw IoError(path.string() + ": PCD ascii data has " + std::to_string(point) +
+                          " points, header says POINTS " + std::to_string(h.points));
         }
-        return cloud;
+        std::size_t end = bytes.find('\n', pos);
+        if (end == std::string::npos) end = bytes.size();
+        ++line_number;
+        const std::string_view line = std::string_view(bytes).substr(pos, end - pos);
+        pos = end + 1;
+        const std::vector<std::string> tok = detail::splitWhitespace(line);
+        if (tok.empty()) continue;
+        if (!detail::parseDoubles(tok, 0, values) || values.size() != h.value_count) {
+            throw IoError(detail::fileLine(path, line_number) + ": PCD ascii point " +
+                          std::to_string(point) + " needs " + std::to_string(h.value_count) +
+                          " numbers");
+        }
+        std::size_t value_index = 0;
+        for (std::size_t f = 0; f < h.fields.size(); ++f) {
+            sink.store(point, static_cast<int>(f), values[value_index]);
+            value_index += h.fields[f].count;
+        }
+        ++point;
     }
+}
 
-    if (h.data == "binary") {
-        if (available < n * h.point_step) {
-            throw IoError(path.string() + ": PCD binary data is truncated: " + std::to_string(n) +
-                          " points x " + std::to_string(h.point_step) + " bytes need " +
-                          std::to_string(n * h.point_step) + ", file has " +
-                          std::to_string(available));
-        }
-        const char* data = bytes.data() + h.data_offset;
-        for (const int f : used) {
-            if (f < 0) continue;
-            const PcdField& field = h.fields[f];
-            for (std::size_t i = 0; i < n; ++i) {
-                store(i, f,
-                      loadValue(data + i * h.point_step + field.offset, field.type, field.size));
-            }
-        }
-        return cloud;
+/// DATA binary: point-major records of point_step bytes.
+void readBinaryData(const std::string& bytes, const PcdHeader& h, PointSink& sink,
+                    const std::filesystem::path& path) {
+    const std::size_t available = bytes.size() - h.data_offset;
+    const std::size_t n = h.points;
+    if (available < n * h.point_step) {
+        throw IoError(path.string() + ": PCD binary data is truncated: " + std::to_string(n) +
+                      " points x " + std::to_string(h.point_step) + " bytes need " +
+                      std::to_string(n * h.point_step) + ", file has " +
+                      std::to_string(available));
     }
+    const char* data = bytes.data() + h.data_offset;
+    for (const int f : sink.usedFields()) {
+        if (f < 0) continue;
+        const PcdField& field = h.fields[f];
+        for (std::size_t i = 0; i < n; ++i) {
+            sink.store(i, f,
+                       loadValue(data + i * h.point_step + field.offset, field.type, field.size));
+        }
+    }
+}
 
-    // binary_compressed: uint32 compressed size, uint32 uncompressed size, LZF stream. The
-    // uncompressed buffer is field-major: all points' values of field 0, then field 1, ...
+/// DATA binary_compressed: uint32 compressed size, uint32 uncompressed size, LZF stream.
+/// The uncompressed buffer is field-major: all points' values of field 0, then field 1, ...
+void readCompressedData(const std::string& bytes, const PcdHeader& h, PointSink& sink,
+                        const std::filesystem::path& path) {
+    const std::size_t available = bytes.size() - h.data_offset;
+    const std::size_t n = h.points;
     if (available < 8) {
         throw IoError(path.string() + ": PCD binary_compressed data is truncated (no sizes)");
     }
@@ -297,16 +323,33 @@ PointCloud readPcd(const std::filesystem::path& path) {
                       ": PCD binary_compressed data is corrupt (LZF decode failed)");
     }
     const char* data = reinterpret_cast<const char*>(raw.data());
-    for (const int f : used) {
+    for (const int f : sink.usedFields()) {
         if (f < 0) continue;
         const PcdField& field = h.fields[f];
         const std::size_t stride = field.size * field.count;
         const char* column = data + n * field.offset;
         for (std::size_t i = 0; i < n; ++i) {
-            store(i, f, loadValue(column + i * stride, field.type, field.size));
+            sink.store(i, f, loadValue(column + i * stride, field.type, field.size));
         }
     }
-    return cloud;
+}
+
+}  // namespace
+
+// Phases: header, the fields we keep, a bound on POINTS, then the data in its encoding.
+PointCloud readPcd(const std::filesystem::path& path) {
+    const std::string bytes = detail::readWholeFile(path);
+    const PcdHeader h = parseHeader(bytes, path);
+    checkPointCountFits(h, bytes.size() - h.data_offset, path);
+    PointSink sink(h, path);
+    if (h.data == "ascii") {
+        readAsciiData(bytes, h, sink, path);
+    } else if (h.data == "binary") {
+        readBinaryData(bytes, h, sink, path);
+    } else {
+        readCompressedData(bytes, h, sink, path);
+    }
+    return sink.take();
 }
 
 }  // namespace vdbmap

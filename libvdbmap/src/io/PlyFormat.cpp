@@ -2,6 +2,7 @@
 #include "io/PlyFormat.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
@@ -114,8 +115,9 @@ PlyHeader parsePlyHeader(const std::string& bytes, const std::filesystem::path& 
             have_format = true;
         } else if (tok[0] == "element") {
             double count = 0;
-            if (tok.size() != 3 || !parseDouble(tok[2], count) || count < 0 ||
-                count != static_cast<double>(static_cast<std::size_t>(count))) {
+            // NaN and values past 2^50 are refused before the cast (UB otherwise).
+            if (tok.size() != 3 || !parseDouble(tok[2], count) || !(count >= 0) ||
+                count > 1e15 || count != std::floor(count)) {
                 throw fail("expected 'element <name> <count>'");
             }
             PlyElement element;
@@ -143,6 +145,13 @@ PlyHeader parsePlyHeader(const std::string& bytes, const std::filesystem::path& 
         }
     }
     if (!have_format) throw IoError(path.string() + ": PLY header has no 'format' line");
+    for (const PlyElement& element : header.elements) {
+        // An instance without properties reads no bytes: a huge count would only spin.
+        if (element.properties.empty() && element.count > 0) {
+            throw IoError(path.string() + ": PLY element '" + element.name + "' has " +
+                          std::to_string(element.count) + " instances but no properties");
+        }
+    }
     header.data_offset = pos;
     return header;
 }
@@ -207,7 +216,7 @@ void PlyDataReader::read(const PlyElement& element, std::vector<double>& scalars
         if (lists.size() <= list_index) lists.resize(list_index + 1);
         std::vector<double>& items = lists[list_index++];
         const double count = value(property.count_type);
-        if (count < 0 || count > 1e6) {
+        if (!(count >= 0 && count <= 1e6) || count != std::floor(count)) {
             throw IoError(path_.string() + ": PLY list '" + property.name + "' of element '" +
                           element.name + "' has an invalid length " + std::to_string(count));
         }

@@ -41,6 +41,16 @@ std::vector<Isometry3d> readKittiPoses(const std::filesystem::path& path) {
         for (int r = 0; r < 3; ++r) {
             for (int c = 0; c < 4; ++c) T.matrix()(r, c) = values[r * 4 + c];
         }
+        // A scaled or sheared "rotation" is well-formed text but not a pose (KITTI files hold
+        // 6+ significant digits, so 1e-3 only refuses real errors).
+        const Mat3d R = T.linear();
+        const double orthogonality = (R.transpose() * R - Mat3d::Identity()).cwiseAbs().maxCoeff();
+        if (!(orthogonality < 1e-3) || !(R.determinant() > 0)) {
+            throw IoError(detail::fileLine(path, line_number) +
+                          ": KITTI pose rotation (the left 3x3) is not a rotation: |R^T R - I| = " +
+                          std::to_string(orthogonality) + ", det = " +
+                          std::to_string(R.determinant()));
+        }
         poses.push_back(T);
     }
     return poses;
@@ -65,8 +75,10 @@ std::vector<StampedPose> readTumPoses(const std::filesystem::path& path) {
                           line.substr(0, 160) + "'");
         }
         Eigen::Quaterniond q(v[7], v[4], v[5], v[6]);  // Eigen order: w x y z
-        if (q.norm() < 1e-9) {
-            throw IoError(detail::fileLine(path, line_number) + ": TUM pose has a zero quaternion");
+        if (!(q.norm() >= 1e-9) || !std::isfinite(q.norm())) {  // zero, or overflows
+            throw IoError(detail::fileLine(path, line_number) +
+                          ": TUM pose quaternion has norm " + std::to_string(q.norm()) +
+                          " (zero or too large to normalize)");
         }
         q.normalize();
         StampedPose pose;

@@ -4,12 +4,29 @@
 #include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
 
+#include <fstream>
+
+#include "io/FileUtil.h"
 #include "vdbmap/Error.h"
 #include "vdbmap/Version.h"
 #include "vdbmap/io/AtomicFile.h"
 #include "vdbmap/map/VoxelMap.h"
 
 namespace vdbmap {
+namespace {
+
+/// openvdb::io::File::write writes through a std::ofstream whose state it never checks, so a
+/// full disk would give a truncated map.vdb. This writes the same seekable archive (what
+/// File::write does) into a stream we own and check.
+class CheckedVdbWriter : public openvdb::io::Archive {
+public:
+    void writeTo(std::ostream& os, const openvdb::GridPtrVec& grids,
+                 const openvdb::MetaMap& meta) const {
+        Archive::write(os, grids, /*seekable=*/true, meta);
+    }
+};
+
+}  // namespace
 
 void writeMapVdb(const std::filesystem::path& path, const VoxelMap& map) {
     openvdb::GridPtrVec grids;
@@ -31,13 +48,13 @@ void writeMapVdb(const std::filesystem::path& path, const VoxelMap& map) {
     meta.insertMeta("creator", openvdb::StringMetadata(std::string("vdbmap ") + versionString()));
     if (!meta["voxel_size_m"]) meta.insertMeta("voxel_size_m", openvdb::DoubleMetadata(map.voxelSize()));
     AtomicFile out(path);
+    std::ofstream stream = detail::openOutput(out.tempPath(), path);
     try {
-        openvdb::io::File file(out.tempPath().string());
-        file.write(grids, meta);
-        file.close();
+        CheckedVdbWriter().writeTo(stream, grids, meta);
     } catch (const openvdb::Exception& e) {
         throw IoError("writeMapVdb: cannot write '" + path.string() + "': " + e.what());
     }
+    detail::closeOutput(stream, path);  // a full disk or a file-size limit is an IoError here
     out.commit();
 }
 

@@ -13,6 +13,7 @@
 #include "vdbmap/Error.h"
 #include "vdbmap/map/BlockStats.h"
 #include "vdbmap/map/Layers.h"
+#include "vdbmap/map/VoxelSize.h"
 
 namespace vdbmap {
 
@@ -34,9 +35,10 @@ TsdfCodec::TsdfCodec(float sdf_range_m, float weight_range)
 namespace {
 
 TsdfCodec checkedCodec(double voxel_size_m, float sdf_range_m, float weight_range) {
-    if (!std::isfinite(voxel_size_m) || voxel_size_m <= 0.0) {
+    if (!std::isfinite(voxel_size_m) || !(voxel_size_m >= kMinVoxelSizeM)) {
         std::ostringstream os;
-        os << "VoxelMap: voxel_size_m must be finite and > 0, got " << voxel_size_m;
+        os << "VoxelMap: voxel_size_m must be finite and >= " << kMinVoxelSizeM << ", got "
+           << voxel_size_m;
         throw InvalidInput(os.str());
     }
     return TsdfCodec(sdf_range_m, weight_range);

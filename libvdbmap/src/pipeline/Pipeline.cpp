@@ -57,7 +57,7 @@ Override parseOverride(const std::string& text) {
         const std::string rest = path.substr(7);
         const std::size_t dot = rest.find('.');
         const std::string index = rest.substr(0, dot);
-        if (dot == std::string::npos || index.empty() ||
+        if (dot == std::string::npos || index.empty() || index.size() > 9 ||
             !std::all_of(index.begin(), index.end(), ::isdigit)) {
             throw ConfigError("--set '" + text + "': expected stages.<index>.<key>=value");
         }

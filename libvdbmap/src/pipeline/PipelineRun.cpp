@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <system_error>
 
+#include "io/OutputLock.h"
 #include "pipeline/PipelineImpl.h"
 #include "vdbmap/Error.h"
 #include "vdbmap/core/Log.h"
@@ -93,17 +94,25 @@ void Pipeline::run(const fs::path& output_dir, Report& report, bool quiet) {
         if (p.output.write_report) report.write(output_dir / "report.json");
     };
 
+    // Before anything is written: a second run on the same folder is refused here and must
+    // not overwrite the first one's report.json.
+    std::error_code dir_ec;
+    fs::create_directories(output_dir, dir_ec);
+    if (dir_ec || !fs::is_directory(output_dir)) {
+        throw IoError(output_dir.string() + ": cannot create the output folder: " +
+                      dir_ec.message());
+    }
+    const OutputLock lock(output_dir);
+    if (lock.staleFilesRemoved() > 0) {
+        logInfo("removed " + std::to_string(lock.staleFilesRemoved()) +
+                " temporary file(s) an interrupted run left in " + output_dir.string());
+    }
+
     std::string current = "setup";
     try {
         reportVersions(report);
         report.setJson({"config"}, resolvedConfigJson());
         report.set({"output_dir"}, fs::absolute(output_dir).string());
-        std::error_code ec;
-        fs::create_directories(output_dir, ec);
-        if (ec || !fs::is_directory(output_dir)) {
-            throw IoError(output_dir.string() + ": cannot create the output folder: " +
-                          ec.message());
-        }
         Context ctx(output_dir, report, quiet);
         if (p.has_dataset) {
             current = "dataset";

@@ -18,6 +18,7 @@
 #include "vdbmap/map/IntegrateDataset.h"
 #include "vdbmap/map/Layers.h"
 #include "vdbmap/map/VoxelMap.h"
+#include "vdbmap/map/VoxelSize.h"
 #include "vdbmap/mesh/MarchingCubes.h"
 #include "vdbmap/pipeline/Context.h"
 #include "vdbmap/pipeline/Report.h"
@@ -86,9 +87,10 @@ public:
                  working_set_scans_, 4);
     }
     void initialize() override {
-        if (!(voxel_size_m_ > 0.0) || !std::isfinite(voxel_size_m_)) {
+        if (!(voxel_size_m_ >= kMinVoxelSizeM) || !std::isfinite(voxel_size_m_)) {
             std::ostringstream os;
-            os << "option 'voxel_size_m' must be finite and > 0, got " << voxel_size_m_;
+            os << "option 'voxel_size_m' must be finite and >= " << kMinVoxelSizeM
+               << " (the smallest accepted voxel, 1 mm), got " << voxel_size_m_;
             failConfig(os.str());
         }
         try {

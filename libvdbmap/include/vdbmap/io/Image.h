@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 #include <opencv2/core.hpp>
 
 namespace vdbmap {
@@ -14,6 +15,12 @@ cv::Mat readLabelImage(const std::filesystem::path& path);
 /// Writes a PNG atomically (8/16-bit, 1/3/4 channels, OpenCV channel order). Throws
 /// IoError; InvalidInput for an empty image.
 void writePng(const std::filesystem::path& path, const cv::Mat& image);
+/// Throws IoError naming `path`, the size found and `expected` unless `image` is
+/// expected.width x expected.height. `expected_from` says where the expected size comes from
+/// (e.g. "camera 'image_2' (its first image)"). Readers of dataset views call it so that a
+/// wrongly sized image is an error, not a view that silently projects nothing.
+void requireImageSize(const cv::Mat& image, const std::filesystem::path& path,
+                      const cv::Size& expected, const std::string& expected_from);
 /// Width and height of an image file. Throws IoError if unreadable.
 cv::Size readImageSize(const std::filesystem::path& path);
 

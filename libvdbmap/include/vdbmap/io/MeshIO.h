@@ -31,6 +31,19 @@ void writeMeshPly(const std::filesystem::path& path, const TriMesh& mesh,
 TriMesh readMeshPly(const std::filesystem::path& path,
                     std::vector<std::uint8_t>* face_labels = nullptr);
 
+/// What readMeshPly read: the faces of the file, the triangles they fan into, and those
+/// OpenMesh refused (a third face on an edge, a face that makes a vertex non-manifold, a
+/// repeated corner). Refused triangles are left out of the mesh (and of face_labels) and
+/// logged as a warning; a caller that needs every face (ground truth) checks the count.
+struct PlyReadStats {
+    std::size_t file_faces = 0;
+    std::size_t triangles = 0;
+    std::size_t rejected_triangles = 0;
+};
+/// As above, and fills `stats`.
+TriMesh readMeshPly(const std::filesystem::path& path, std::vector<std::uint8_t>* face_labels,
+                    PlyReadStats* stats);
+
 /// An OBJ with materials: positions, optional texture coordinates, and triangles that refer to
 /// them by 0-based index, each triangle with a material.
 struct ObjMaterial {

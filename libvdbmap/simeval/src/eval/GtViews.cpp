@@ -30,13 +30,7 @@ void writeGtViews(const std::filesystem::path& folder, const std::vector<GtView>
         j["T_W_C"] = m;
         root["views"].push_back(j);
     }
-    AtomicFile file(folder / "views.json");
-    {
-        std::ofstream out(file.tempPath());
-        out << root.dump(2) << "\n";
-        if (!out) throw IoError(file.finalPath().string() + ": write failed");
-    }
-    file.commit();
+    writeFileAtomically(folder / "views.json", root.dump(2) + "\n");
 }
 
 std::vector<GtView> readGtViews(const std::filesystem::path& folder) {

@@ -43,13 +43,7 @@ std::string frameName(std::size_t i) {
 }
 
 void writeText(const std::filesystem::path& path, const std::string& text) {
-    AtomicFile file(path);
-    {
-        std::ofstream out(file.tempPath());
-        out << text;
-        if (!out) throw IoError(path.string() + ": write failed");
-    }
-    file.commit();
+    writeFileAtomically(path, text);  // checked to the last byte (a full disk is an IoError)
 }
 
 // KITTI's LiDAR -> camera-0 rotation (x_cam = -y_L, y_cam = -z_L, z_cam = x_L), a small
