@@ -24,6 +24,7 @@
 #include "vdbmap/map/Layers.h"
 #include "vdbmap/map/VoxelMap.h"
 #include "vdbmap/mesh/MeshAdjacency.h"
+#include "vdbmap/mesh/MeshArrays.h"
 #include "vdbmap/mesh/TileFaces.h"
 #include "vdbmap/pipeline/Context.h"
 #include "vdbmap/pipeline/Report.h"
@@ -33,15 +34,6 @@
 namespace vdbmap::semantic {
 
 namespace {
-
-std::string jsonEscape(const std::string& s) {
-    std::string out;
-    for (const char c : s) {
-        if (c == '"' || c == '\\') out += '\\';
-        out += c;
-    }
-    return out;
-}
 
 double perSecond(std::size_t n, double seconds) {
     return seconds > 0.0 ? static_cast<double>(n) / seconds : 0.0;
@@ -63,6 +55,8 @@ std::filesystem::path resolveFile(const std::string& file, const Dataset& datase
 }
 
 // The mesh as plain arrays (vertex positions, triangles by vertex index).
+// The mesh as arrays (vdbmap::meshArrays, every face slot kept so triangle i is face i) plus
+// the area of each triangle.
 struct FaceArrays {
     std::vector<Vec3f> vertices;
     std::vector<std::array<std::uint32_t, 3>> triangles;
@@ -70,24 +64,15 @@ struct FaceArrays {
 };
 
 FaceArrays faceArrays(const TriMesh& mesh) {
+    MeshArrays arrays = meshArrays(mesh, DeletedFaces::Collapse);
     FaceArrays a;
-    a.vertices.reserve(mesh.n_vertices());
-    for (const auto vh : mesh.vertices()) {
-        const auto& p = mesh.point(vh);
-        a.vertices.emplace_back(p[0], p[1], p[2]);
-    }
-    a.triangles.reserve(mesh.n_faces());
-    for (const auto fh : mesh.faces()) {
-        std::array<std::uint32_t, 3> t{0, 0, 0};
-        int k = 0;
-        for (const auto vh : mesh.fv_range(fh)) {
-            if (k < 3) t[k++] = static_cast<std::uint32_t>(vh.idx());
-        }
-        a.triangles.push_back(t);
+    a.vertices = std::move(arrays.vertices_W);
+    a.triangles = std::move(arrays.faces);
+    a.area_m2.reserve(a.triangles.size());
+    for (const auto& t : a.triangles) {
         const Vec3f& p0 = a.vertices[t[0]];
-        a.area_m2.push_back(0.5 * static_cast<double>((a.vertices[t[1]] - p0)
-                                                          .cross(a.vertices[t[2]] - p0)
-                                                          .norm()));
+        a.area_m2.push_back(
+            0.5 * static_cast<double>((a.vertices[t[1]] - p0).cross(a.vertices[t[2]] - p0).norm()));
     }
     return a;
 }
@@ -532,30 +517,28 @@ void SemanticMrfStage::run(Context& ctx) {
         total_area += faces.area_m2[f];
         confidence_sum += result.confidence[f] * faces.area_m2[f];
     }
-    std::ostringstream share;
     const char* keys[5] = {"images", "lidar", "both", "fill_only", "unlabelled"};
-    share << "{";
     for (int k = 0; k < 5; ++k) {
-        share << (k ? "," : "") << "\"" << keys[k] << "\":{\"faces\":" << n[k]
-              << ",\"face_share\":" << (num_faces ? double(n[k]) / double(num_faces) : 0.0)
-              << ",\"area_m2\":" << area[k]
-              << ",\"area_share\":" << (total_area > 0 ? area[k] / total_area : 0.0) << "}";
+        const std::vector<std::string> at{"stages", stage, "sources", keys[k]};
+        auto key = [&](const char* leaf) {
+            std::vector<std::string> path = at;
+            path.emplace_back(leaf);
+            return path;
+        };
+        report.set(key("faces"), n[k]);
+        report.set(key("face_share"), num_faces ? double(n[k]) / double(num_faces) : 0.0);
+        report.set(key("area_m2"), area[k]);
+        report.set(key("area_share"), total_area > 0 ? area[k] / total_area : 0.0);
     }
-    share << "}";
-    report.setJson({"stages", stage, "sources"}, share.str());
     report.stage(stage, "mean_confidence_area_weighted",
                  total_area > 0 ? confidence_sum / total_area : 0.0);
-    std::ostringstream classes;
-    classes << "{";
-    bool first = true;
-    for (const auto& [id, s] : classStatistics(mesh, result.face_labels)) {
-        classes << (first ? "" : ",") << "\"" << static_cast<int>(id) << "\":{\"name\":\""
-                << jsonEscape(id == kUnknownLabel ? std::string("unknown") : labels.name(id))
-                << "\",\"faces\":" << s.faces << ",\"area_m2\":" << s.area_m2 << "}";
-        first = false;
+    for (const auto& [id, c] : classStatistics(mesh, result.face_labels)) {
+        const std::string cls = std::to_string(static_cast<int>(id));
+        report.set({"stages", stage, "classes", cls, "name"},
+                   id == kUnknownLabel ? std::string("unknown") : labels.name(id));
+        report.set({"stages", stage, "classes", cls, "faces"}, c.faces);
+        report.set({"stages", stage, "classes", cls, "area_m2"}, c.area_m2);
     }
-    classes << "}";
-    report.setJson({"stages", stage, "classes"}, classes.str());
 
     std::ostringstream msg;
     msg << stage << ": " << num_faces << " faces, " << images.views << " views, "
