@@ -126,4 +126,22 @@ inline void writeSmallSequence(const std::filesystem::path& dir, std::size_t fra
     writeSimSequence(sim, dir);
 }
 
+/// Removes a test process's work folder when the process ends (a static of the test file).
+struct RemoveAtExit {
+    std::filesystem::path dir;
+    ~RemoveAtExit() {
+        std::error_code ec;
+        std::filesystem::remove_all(dir, ec);
+    }
+};
+
+/// `<tmp>/<prefix>_<pid>`, emptied and created.
+inline std::filesystem::path freshProcessDir(const std::string& prefix) {
+    const std::filesystem::path d =
+        std::filesystem::temp_directory_path() / (prefix + "_" + std::to_string(::getpid()));
+    std::filesystem::remove_all(d);
+    std::filesystem::create_directories(d);
+    return d;
+}
+
 }  // namespace vdbmap::test

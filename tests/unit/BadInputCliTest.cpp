@@ -19,24 +19,13 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// Removes the work folder when the test process ends.
-struct RemoveAtExit {
-    fs::path dir;
-    ~RemoveAtExit() {
-        std::error_code ec;
-        fs::remove_all(dir, ec);
-    }
-};
-
 fs::path workDir() {
     static const fs::path dir = [] {
-        fs::path d = fs::temp_directory_path() / ("vdbmap_badinput_" + std::to_string(::getpid()));
-        fs::remove_all(d);
-        fs::create_directories(d);
+        const fs::path d = test::freshProcessDir("vdbmap_badinput");
         test::writeSmallSequence(d / "seq_master");
         return d;
     }();
-    static const RemoveAtExit cleanup{dir};
+    static const test::RemoveAtExit cleanup{dir};
     return dir;
 }
 

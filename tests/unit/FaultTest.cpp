@@ -26,20 +26,9 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-/// Removes the work folder when the test process ends.
-struct RemoveAtExit {
-    fs::path dir;
-    ~RemoveAtExit() {
-        std::error_code ec;
-        fs::remove_all(dir, ec);
-    }
-};
-
 fs::path workDir() {
     static const fs::path dir = [] {
-        fs::path d = fs::temp_directory_path() / ("vdbmap_fault_" + std::to_string(::getpid()));
-        fs::remove_all(d);
-        fs::create_directories(d);
+        const fs::path d = test::freshProcessDir("vdbmap_fault");
         test::writeSmallSequence(d / "seq");
         std::ofstream(d / "run.yaml")
             << "dataset: {format: kitti, path: seq}\nplugins: [texture]\nstages:\n"
@@ -48,7 +37,7 @@ fs::path workDir() {
                "  - {stage: texture.mrf, mrf: false, global_adjustment: false}\n";
         return d;
     }();
-    static const RemoveAtExit cleanup{dir};
+    static const test::RemoveAtExit cleanup{dir};
     return dir;
 }
 
