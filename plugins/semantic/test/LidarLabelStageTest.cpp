@@ -3,8 +3,12 @@
 // SemanticKITTI ids, no images), the built-in map, and the errors for bad label input.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <array>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
 
 #include "vdbmap/Error.h"
 #include "vdbmap/core/Log.h"
@@ -34,6 +38,27 @@ std::string pipelineYaml(const std::string& semantic_options) {
            "    lidar_labels: true\n"
            "    lidar_vote_radius_m: 0.25\n" +
            semantic_options;
+}
+
+using Corner = std::array<float, 3>;
+using FaceKey = std::array<Corner, 3>;
+
+/// Each face of a semantic PLY by its corners (rotated to start at the smallest) -> label.
+std::map<FaceKey, int> facesWithLabels(const fs::path& ply) {
+    std::vector<std::uint8_t> labels;
+    const TriMesh mesh = readMeshPly(ply, &labels);
+    std::map<FaceKey, int> out;
+    for (const auto fh : mesh.faces()) {
+        FaceKey f{};
+        std::size_t k = 0;
+        for (const auto vh : mesh.fv_range(fh)) {
+            const auto p = mesh.point(vh);
+            f[k++] = {p[0], p[1], p[2]};
+        }
+        std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
+        out.emplace(f, labels[static_cast<std::size_t>(fh.idx())]);
+    }
+    return out;
 }
 
 std::string runError(const fs::path& root, const std::string& yaml) {
@@ -133,4 +158,52 @@ TEST_CASE("semantic.mrf labels a street from LiDAR labels alone; bad label input
     CHECK_THAT(runError(root, pipelineYaml("    label_map: semantickitti\n")),
                Catch::Contains("no LiDAR labels"));
     fs::rename(root / "seq" / "labels_off", root / "seq" / "labels");
+}
+
+TEST_CASE("semantic.mrf in tiles reads only the labelled scans that reach the tile",
+          "[semantic][pipeline][lidar][tiles]") {
+    setLogLevel(LogLevel::Warn);
+    const fs::path root = fs::path(VDBMAP_BINARY_DIR) / "test_scratch" / "lidar_label_tiles";
+    fs::remove_all(root);
+    SimOptions sim;
+    sim.frames = 8;
+    sim.size_m = 40.0;
+    sim.gt_views = 0;
+    sim.images = false;
+    sim.quiet = true;
+    writeSimSequence(sim, root / "seq");
+    // A 15 m sensor range: 8 m tiles far along the street cannot be reached by the first scans.
+    std::string yaml = pipelineYaml("    label_map: semantickitti\n");
+    yaml.replace(yaml.find("path: seq}"), 10, "path: seq, max_range_m: 15}");
+    auto untiled = Pipeline::fromString(yaml, "untiled", root);
+    Report untiled_report;
+    untiled->run(root / "untiled", untiled_report, true);
+    auto tiled = Pipeline::fromString(yaml + "tiling: {tile_size_m: 8, halo_m: 2}\n", "tiled", root);
+    Report tiled_report;
+    tiled->run(root / "tiled", tiled_report, true);
+
+    const auto reference = facesWithLabels(root / "untiled" / "semantic" / "mesh.ply");
+    const nlohmann::json tiles = nlohmann::json::parse(tiled_report.getJson({"tiles"}));
+    REQUIRE(tiles.size() >= 4);
+    std::size_t faces = 0, same = 0, tiles_skipping_scans = 0;
+    for (const auto& [name, figures] : tiles.items()) {
+        INFO("tile " << name);
+        const auto& stage = figures["stages"]["semantic.mrf"];
+        // Every frame is read or skipped as out of reach, none lost.
+        CHECK(stage["lidar_scans"].get<std::size_t>() +
+                  stage["lidar_scans_out_of_reach"].get<std::size_t>() ==
+              sim.frames);
+        tiles_skipping_scans += stage["lidar_scans_out_of_reach"].get<std::size_t>() > 0;
+        for (const auto& [face, label] :
+             facesWithLabels(root / "tiled" / "tiles" / name / "semantic" / "mesh.ply")) {
+            const auto it = reference.find(face);
+            REQUIRE(it != reference.end());
+            ++faces;
+            same += it->second == label;
+        }
+    }
+    CHECK(tiles_skipping_scans > 0);
+    CHECK(faces == reference.size());
+    // The tiles' MRFs see core + halo only, so a few labels near tile borders may differ.
+    CHECK(static_cast<double>(same) >= 0.99 * static_cast<double>(faces));
 }
