@@ -10,111 +10,18 @@
 #include <sstream>
 
 #include "pipeline/DatasetYaml.h"
+#include "pipeline/Overrides.h"
 #include "pipeline/PipelineImpl.h"
 #include "pipeline/YamlOptions.h"
 #include "vdbmap/Error.h"
 #include "vdbmap/map/Layers.h"
 #include "vdbmap/pipeline/StageRegistry.h"
 #include "vdbmap/plugin/PluginLoader.h"
-#include "vdbmap/map/Layers.h"
 
 namespace vdbmap {
 namespace fs = std::filesystem;
 
 namespace {
-
-/// One `--set path=value`, split into its target section and key.
-struct Override {
-    enum class Target { Dataset, Output, Tiling, StageIndex, StageName } target;
-    std::size_t index = 0;   ///< for StageIndex (after resolving StageName too)
-    std::string remainder;   ///< "integrate.atsdf.voxel_size_m" before the stage name is known
-    std::string key;
-    YAML::Node value;
-    std::string text;        ///< the original "path=value"
-};
-
-Override parseOverride(const std::string& text) {
-    const std::size_t eq = text.find('=');
-    if (eq == std::string::npos || eq == 0) {
-        throw ConfigError("--set '" + text + "': expected key.path=value");
-    }
-    Override o;
-    o.text = text;
-    const std::string path = text.substr(0, eq);
-    const std::string value = text.substr(eq + 1);
-    o.value = detail::parseOverrideValue(value);
-    auto startsWith = [&](const std::string& prefix) { return path.rfind(prefix, 0) == 0; };
-    if (startsWith("dataset.")) {
-        o.target = Override::Target::Dataset;
-        o.key = path.substr(8);
-    } else if (startsWith("output.")) {
-        o.target = Override::Target::Output;
-        o.key = path.substr(7);
-    } else if (startsWith("tiling.")) {
-        o.target = Override::Target::Tiling;
-        o.key = path.substr(7);
-    } else if (startsWith("stages.")) {
-        const std::string rest = path.substr(7);
-        const std::size_t dot = rest.find('.');
-        const std::string index = rest.substr(0, dot);
-        if (dot == std::string::npos || index.empty() || index.size() > 9 ||
-            !std::all_of(index.begin(), index.end(), ::isdigit)) {
-            throw ConfigError("--set '" + text + "': expected stages.<index>.<key>=value");
-        }
-        o.target = Override::Target::StageIndex;
-        o.index = std::stoul(index);
-        o.key = rest.substr(dot + 1);
-    } else {
-        o.target = Override::Target::StageName;
-        o.remainder = path;
-    }
-    if (o.target != Override::Target::StageName && o.key.empty()) {
-        throw ConfigError("--set '" + text + "': the key after the last '.' is empty");
-    }
-    return o;
-}
-
-/// Replaces or appends the override's entry among a section's entries.
-void applyOverride(std::vector<detail::YamlEntry>& entries, const Override& o) {
-    const std::string where = "--set " + o.text;
-    for (auto& entry : entries) {
-        if (entry.key == o.key) {
-            entry.value = o.value;
-            entry.where = where;
-            return;
-        }
-    }
-    entries.push_back({o.key, o.value, where});
-}
-
-/// Turns `<stage name>.<key>` overrides into stage indices; the name must appear once.
-void resolveStageNames(std::vector<Override>& overrides, const std::vector<std::string>& names) {
-    for (auto& o : overrides) {
-        if (o.target != Override::Target::StageName) continue;
-        std::string best;
-        for (const auto& name : names) {
-            if (o.remainder.rfind(name + ".", 0) == 0 && name.size() > best.size()) best = name;
-        }
-        if (best.empty()) {
-            std::string list;
-            for (const auto& name : names) list += (list.empty() ? "" : ", ") + name;
-            throw ConfigError("--set '" + o.text +
-                              "': unknown path; use dataset.<key>, output.<key>, tiling.<key>, "
-                              "stages.<index>.<key> or <stage>.<key> with a stage of this "
-                              "pipeline (" + list + ")");
-        }
-        const auto count = std::count(names.begin(), names.end(), best);
-        if (count > 1) {
-            throw ConfigError("--set '" + o.text + "': stage '" + best + "' appears " +
-                              std::to_string(count) + " times; use stages.<index>.<key>");
-        }
-        o.index = static_cast<std::size_t>(std::find(names.begin(), names.end(), best) -
-                                           names.begin());
-        o.key = o.remainder.substr(best.size() + 1);
-        o.target = Override::Target::StageIndex;
-        if (o.key.empty()) throw ConfigError("--set '" + o.text + "': empty key");
-    }
-}
 
 nlohmann::json optionToJson(const OptionValue& value) {
     return std::visit([](const auto& v) { return nlohmann::json(v); }, value);
@@ -155,45 +62,35 @@ std::unique_ptr<Pipeline> Pipeline::fromFile(const fs::path& yaml_file,
     return fromString(text, yaml_file.string(), base, overrides);
 }
 
-std::unique_ptr<Pipeline> Pipeline::fromString(const std::string& yaml_text,
-                                               const std::string& source_name,
-                                               const fs::path& base_dir,
-                                               const std::vector<std::string>& override_texts) {
-    registerBuiltinStages();
-    std::unique_ptr<Pipeline> pipeline(new Pipeline());
-    Impl& p = *pipeline->impl_;
-    p.source = source_name;
-    p.base_dir = base_dir;
-    p.overrides = override_texts;
+namespace {
+
+using detail::Override;
+
+// Phase: plugins first, their stages must be registered before the stages are created.
+void loadPlugins(const YAML::Node& plugins, Pipeline::Impl& p) {
     const std::string& src = p.source;
-
-    std::vector<Override> overrides;
-    for (const auto& text : override_texts) overrides.push_back(parseOverride(text));
-
-    const YAML::Node root = detail::parsePipelineRoot(yaml_text, src);
-
-    // Plugins first: their stages must be registered before the stages are created.
-    const YAML::Node plugins = root["plugins"];
-    if (plugins.IsDefined() && !plugins.IsNull()) {
-        if (!plugins.IsSequence()) {
-            throw ConfigError(detail::yamlLocation(src, plugins) +
-                              ": plugins: expected a list of plugin names or paths");
+    if (!plugins.IsDefined() || plugins.IsNull()) return;
+    if (!plugins.IsSequence()) {
+        throw ConfigError(detail::yamlLocation(src, plugins) +
+                          ": plugins: expected a list of plugin names or paths");
+    }
+    for (const auto& item : plugins) {
+        if (!item.IsScalar()) {
+            throw ConfigError(detail::yamlLocation(src, item) +
+                              ": plugins: expected a plugin name or path");
         }
-        for (const auto& item : plugins) {
-            if (!item.IsScalar()) {
-                throw ConfigError(detail::yamlLocation(src, item) +
-                                  ": plugins: expected a plugin name or path");
-            }
-            try {
-                p.plugin_specs.push_back(item.Scalar());
-                p.plugin_files.push_back(PluginLoader::load(item.Scalar(), p.base_dir));
-            } catch (const PluginError& e) {
-                throw PluginError(detail::yamlLocation(src, item) + ": " + e.what());
-            }
+        try {
+            p.plugin_specs.push_back(item.Scalar());
+            p.plugin_files.push_back(PluginLoader::load(item.Scalar(), p.base_dir));
+        } catch (const PluginError& e) {
+            throw PluginError(detail::yamlLocation(src, item) + ": " + e.what());
         }
     }
+}
 
-    const YAML::Node stages = root["stages"];
+// Phase: one stage instance per `- stage:` item, in order. Returns the stage names.
+std::vector<std::string> createStages(const YAML::Node& stages, Pipeline::Impl& p) {
+    const std::string& src = p.source;
     if (!stages.IsDefined() || stages.IsNull()) {
         throw ConfigError(src + ": missing required key 'stages' (an ordered list of "
                                 "`- stage: <name>` items)");
@@ -223,54 +120,54 @@ std::unique_ptr<Pipeline> Pipeline::fromString(const std::string& yaml_text,
         names.push_back(name);
         p.stages.push_back(std::move(ps));
     }
-    resolveStageNames(overrides, names);
-    for (const auto& o : overrides) {
-        if (o.target == Override::Target::StageIndex && o.index >= p.stages.size()) {
-            throw ConfigError("--set '" + o.text + "': stage index " + std::to_string(o.index) +
-                              " out of range; the pipeline has " +
-                              std::to_string(p.stages.size()) + " stages");
-        }
-    }
+    return names;
+}
 
-    // Bind every section before any initialize() so that all key errors come first.
+// Phase: every stage's options from its YAML map and the overrides of its index.
+void bindStageOptions(const YAML::Node& stages, const std::vector<Override>& overrides,
+                      Pipeline::Impl& p) {
     for (std::size_t i = 0; i < p.stages.size(); ++i) {
         PipelineStage& ps = p.stages[i];
         ps.stage->declareOptions(ps.spec);
-        auto entries = detail::yamlMapEntries(stages[i], src, ps.label, "stage");
-        for (const auto& o : overrides) {
-            if (o.target == Override::Target::StageIndex && o.index == i) applyOverride(entries, o);
-        }
+        auto entries = detail::yamlMapEntries(stages[i], p.source, ps.label, "stage");
+        detail::applyOverrides(entries, overrides, Override::Target::StageIndex, i);
         detail::bindEntries(ps.spec, entries, ps.label, ps.where);
     }
+}
 
-    const YAML::Node dataset = root["dataset"];
+// Binds one plain section (`output:`, `tiling:`) and its overrides. Returns where it is.
+std::string bindSection(const YAML::Node& node, const std::string& section,
+                        const std::vector<Override>& overrides, Override::Target target,
+                        OptionSpec& spec, const std::string& src) {
+    auto entries = detail::yamlMapEntries(node, src, section);
+    detail::applyOverrides(entries, overrides, target);
+    const std::string where = node.IsDefined() ? detail::yamlLocation(src, node) : src;
+    detail::bindEntries(spec, entries, section, where);
+    return where;
+}
+
+// Phase: the dataset, output and tiling sections.
+void bindSections(const YAML::Node& root, const std::vector<Override>& overrides,
+                  Pipeline::Impl& p) {
     p.dataset.declareOptions(p.dataset_spec);
     std::vector<detail::DatasetOverride> dataset_overrides;
     for (const auto& o : overrides) {
-        if (o.target == Override::Target::Dataset)
+        if (o.target == Override::Target::Dataset) {
             dataset_overrides.push_back({o.key, o.value, o.text});
+        }
     }
-    p.has_dataset =
-        detail::bindDatasetSection(dataset, src, dataset_overrides, p.dataset, p.dataset_spec);
-
-    const YAML::Node output = root["output"];
+    p.has_dataset = detail::bindDatasetSection(root["dataset"], p.source, dataset_overrides,
+                                               p.dataset, p.dataset_spec);
     p.output.declareOptions(p.output_spec);
-    auto output_entries = detail::yamlMapEntries(output, src, "output");
-    for (const auto& o : overrides) {
-        if (o.target == Override::Target::Output) applyOverride(output_entries, o);
-    }
-    detail::bindEntries(p.output_spec, output_entries, "output",
-                        output.IsDefined() ? detail::yamlLocation(src, output) : src);
-
-    const YAML::Node tiling = root["tiling"];
+    bindSection(root["output"], "output", overrides, Override::Target::Output, p.output_spec,
+                p.source);
     p.tiling.declareOptions(p.tiling_spec);
-    auto tiling_entries = detail::yamlMapEntries(tiling, src, "tiling");
-    for (const auto& o : overrides) {
-        if (o.target == Override::Target::Tiling) applyOverride(tiling_entries, o);
-    }
-    const std::string tiling_where = tiling.IsDefined() ? detail::yamlLocation(src, tiling) : src;
-    detail::bindEntries(p.tiling_spec, tiling_entries, "tiling", tiling_where);
+    p.tiling_where = bindSection(root["tiling"], "tiling", overrides, Override::Target::Tiling,
+                                 p.tiling_spec, p.source);
+}
 
+// Phase: each stage checks its values (ConfigError naming where it is) and declares layers.
+void initializeStages(Pipeline::Impl& p) {
     for (auto& ps : p.stages) {
         try {
             ps.stage->initialize();
@@ -281,22 +178,51 @@ std::unique_ptr<Pipeline> Pipeline::fromString(const std::string& yaml_text,
         }
         ps.stage->declareLayers(ps.layers);
     }
+}
+
+// The voxel size, when a stage before the tiled ones declares it (0 if none does; run()
+// checks the map's).
+double declaredVoxelSize(const Pipeline::Impl& p, std::size_t first_tiled) {
+    double voxel_size_m = 0.0;
+    for (std::size_t i = 0; i < std::min(p.stages.size(), first_tiled); ++i) {
+        if (const OptionInfo* info = p.stages[i].spec.find("voxel_size_m")) {
+            const OptionValue value = currentValue(*info);
+            if (const double* v = std::get_if<double>(&value)) voxel_size_m = *v;
+        }
+    }
+    return voxel_size_m;
+}
+
+}  // namespace
+
+std::unique_ptr<Pipeline> Pipeline::fromString(const std::string& yaml_text,
+                                               const std::string& source_name,
+                                               const fs::path& base_dir,
+                                               const std::vector<std::string>& override_texts) {
+    registerBuiltinStages();
+    std::unique_ptr<Pipeline> pipeline(new Pipeline());
+    Impl& p = *pipeline->impl_;
+    p.source = source_name;
+    p.base_dir = base_dir;
+    p.overrides = override_texts;
+    std::vector<Override> overrides;
+    for (const auto& text : override_texts) overrides.push_back(detail::parseOverride(text));
+
+    const YAML::Node root = detail::parsePipelineRoot(yaml_text, p.source);
+    loadPlugins(root["plugins"], p);
+    const std::vector<std::string> names = createStages(root["stages"], p);
+    detail::resolveStageNames(overrides, names);
+    // Bind every section before any initialize() so that all key errors come first.
+    bindStageOptions(root["stages"], overrides, p);
+    bindSections(root, overrides, p);
+    initializeStages(p);
 
     // Without an opened dataset, assume it provides every dataset layer; run() checks again
     // with what the dataset really has.
     std::vector<std::string> dataset_layers;
     if (p.has_dataset) dataset_layers = {layers::kScans, layers::kImages, layers::kSemanticImages};
     pipeline->checkLayers(dataset_layers);
-    // The voxel size, when a stage before the tiled ones declares it (run() checks the map's).
-    double voxel_size_m = 0.0;
-    for (std::size_t i = 0; i < std::min(p.stages.size(), pipeline->firstTiledStage()); ++i) {
-        if (const OptionInfo* info = p.stages[i].spec.find("voxel_size_m")) {
-            const OptionValue value = currentValue(*info);
-            if (const double* v = std::get_if<double>(&value)) voxel_size_m = *v;
-        }
-    }
-    p.tiling.validate(voxel_size_m, tiling_where);
-    p.tiling_where = tiling_where;
+    p.tiling.validate(declaredVoxelSize(p, pipeline->firstTiledStage()), p.tiling_where);
     return pipeline;
 }
 

@@ -97,9 +97,12 @@ public:
     /// the layers with what it really provides. `quiet` turns progress bars off.
     void run(const std::filesystem::path& output_dir, Report& report, bool quiet = false);
 
+    /// The pipeline's state (opaque: defined in src/pipeline/PipelineImpl.h for the phases of
+    /// fromString and run).
+    struct Impl;
+
 private:
     Pipeline();
-    struct Impl;
     std::unique_ptr<Impl> impl_;
 };
 
