@@ -123,130 +123,164 @@ std::vector<Vec3f> sampleSurface(const std::vector<Vec3f>& vertices,
     return out;
 }
 
-GeometryMetrics evaluateGeometry(const std::vector<Vec3f>& pred_vertices,
-                                 const std::vector<std::array<std::uint32_t, 3>>& pred_triangles,
-                                 const Raycaster& gt, const std::vector<Vec3f>& gt_observed_points,
-                                 const GeometryEvalOptions& options,
-                                 std::vector<float>* pred_vertex_error) {
+namespace {
+
+void checkOptions(const GeometryEvalOptions& options, const Raycaster& gt) {
     if (options.tau_m.empty()) throw InvalidInput("evaluateGeometry: empty tau list");
     for (double tau : options.tau_m) {
         if (!(tau > 0)) {
             throw InvalidInput("evaluateGeometry: tau must be > 0, got " + std::to_string(tau));
         }
     }
-    GeometryMetrics m;
-    m.pred_faces = pred_triangles.size();
-    double area = 0;
-    for (const auto& t : pred_triangles) {
-        area += triangleArea(pred_vertices[t[0]], pred_vertices[t[1]], pred_vertices[t[2]]);
-    }
-    const double spacing =
-        std::max(options.sample_spacing_m,
-                 std::sqrt(area / static_cast<double>(std::max<std::size_t>(1, options.max_samples))));
-    std::vector<Vec3f> samples = sampleSurface(pred_vertices, pred_triangles, spacing, options.seed);
-    m.pred_samples = samples.size();
+    const auto checkSize = [&](std::size_t n, const char* what) {
+        if (n != 0 && n != gt.numTriangles()) {
+            throw InvalidInput("evaluateGeometry: " + std::string(what) + " have " +
+                               std::to_string(n) + " entries for " +
+                               std::to_string(gt.numTriangles()) + " ground-truth triangles");
+        }
+    };
+    checkSize(options.gt_face_mask.size(), "face mask");
+    checkSize(options.gt_face_class.size(), "face classes");
+}
 
-    // Restrict accuracy to the observed part: a Raycaster over point "triangles" gives the
-    // nearest observed ground-truth point.
-    std::vector<std::array<std::uint32_t, 3>> point_tris(gt_observed_points.size());
+// Area-uniform samples of the predicted mesh, at most options.max_samples of them.
+std::vector<Vec3f> predictionSamples(const std::vector<Vec3f>& vertices,
+                                     const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                                     const GeometryEvalOptions& options) {
+    double area = 0;
+    for (const auto& t : triangles) area += triangleArea(vertices[t[0]], vertices[t[1]], vertices[t[2]]);
+    const double spacing = std::max(
+        options.sample_spacing_m,
+        std::sqrt(area / static_cast<double>(std::max<std::size_t>(1, options.max_samples))));
+    return sampleSurface(vertices, triangles, spacing, options.seed);
+}
+
+// 1 for the samples within the cutoff of an observed ground-truth point (accuracy is scored on
+// the observed part only; a Raycaster over point "triangles" finds the nearest point).
+std::vector<char> nearObserved(const std::vector<Vec3f>& samples,
+                               const std::vector<Vec3f>& observed_points, double cutoff_m) {
+    std::vector<char> keep(samples.size(), 1);
+    if (observed_points.empty()) return keep;
+    std::vector<std::array<std::uint32_t, 3>> point_tris(observed_points.size());
     for (std::size_t i = 0; i < point_tris.size(); ++i) {
         const auto k = static_cast<std::uint32_t>(i);
         point_tris[i] = {k, k, k};
     }
-    const Raycaster observed(gt_observed_points, point_tris);
-    std::vector<char> keep(samples.size(), 1);
-    if (!gt_observed_points.empty()) {
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, samples.size(), 512),
-                          [&](const tbb::blocked_range<std::size_t>& r) {
-                              for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                                  keep[i] = observed
-                                                .closestPoint(samples[i],
-                                                              static_cast<float>(options.observed_cutoff_m))
-                                                .has_value();
+    const Raycaster observed(observed_points, point_tris);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, samples.size(), 512),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                              keep[i] = observed.closestPoint(samples[i], static_cast<float>(cutoff_m))
+                                            .has_value();
+                          }
+                      });
+    return keep;
+}
+
+// Distances of `points` (those with `pre_keep`, all if it is empty) to the ground truth into
+// `d`, and per point its nearest ground-truth face (-1: none within the cap).
+std::vector<std::int64_t> nearestGtFaces(const Raycaster& gt, const std::vector<Vec3f>& points,
+                                         const std::vector<char>& pre_keep, std::vector<float>& d) {
+    std::vector<std::int64_t> face(points.size(), -1);
+    d.assign(points.size(), kDistanceCap);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 512),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                              if (!pre_keep.empty() && !pre_keep[i]) continue;
+                              if (auto cp = gt.closestPoint(points[i], kDistanceCap)) {
+                                  d[i] = cp->distance;
+                                  face[i] = static_cast<std::int64_t>(cp->face);
                               }
-                          });
-    }
-    const std::vector<char>& mask = options.gt_face_mask;
-    if (!mask.empty() && mask.size() != gt.numTriangles()) {
-        throw InvalidInput("evaluateGeometry: face mask has " + std::to_string(mask.size()) +
-                           " entries for " + std::to_string(gt.numTriangles()) +
-                           " ground-truth triangles");
-    }
-    // Distances to the ground truth, and whether the nearest ground-truth face is masked in.
-    auto toGt = [&](const std::vector<Vec3f>& points, const std::vector<char>& pre_keep,
-                    std::vector<float>& d) {
-        std::vector<char> in(points.size(), 0);
-        d.assign(points.size(), kDistanceCap);
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 512),
-                          [&](const tbb::blocked_range<std::size_t>& r) {
-                              for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                                  if (!pre_keep.empty() && !pre_keep[i]) continue;
-                                  if (auto cp = gt.closestPoint(points[i], kDistanceCap)) {
-                                      d[i] = cp->distance;
-                                      in[i] = mask.empty() || mask[cp->face];
-                                  }
-                              }
-                          });
-        return in;
-    };
-    std::vector<float> sample_d;
-    const std::vector<char> sample_in = toGt(samples, keep, sample_d);
+                          }
+                      });
+    return face;
+}
+
+bool maskedIn(const std::vector<char>& mask, std::int64_t face) {
+    return face >= 0 && (mask.empty() || mask[static_cast<std::size_t>(face)]);
+}
+
+// Accuracy distances: the kept samples whose nearest ground-truth face is masked in.
+std::vector<float> accuracyDistances(const Raycaster& gt, const std::vector<Vec3f>& samples,
+                                     const std::vector<char>& keep, const std::vector<char>& mask) {
+    std::vector<float> d;
+    const std::vector<std::int64_t> face = nearestGtFaces(gt, samples, keep, d);
     std::vector<float> acc;
     acc.reserve(samples.size());
     for (std::size_t i = 0; i < samples.size(); ++i) {
-        if (keep[i] && sample_in[i]) acc.push_back(sample_d[i]);
+        if (keep[i] && maskedIn(mask, face[i])) acc.push_back(d[i]);
     }
-    m.pred_samples_used = acc.size();
+    return acc;
+}
 
+// The observed points completeness scores (those whose nearest ground-truth face is masked in)
+// and, with face classes, the class of each (that of its nearest face; -1 none).
+void scoredGtPoints(const Raycaster& gt, const std::vector<Vec3f>& observed_points,
+                    const GeometryEvalOptions& options, std::vector<Vec3f>& points,
+                    std::vector<int>& point_class) {
+    const std::vector<char>& mask = options.gt_face_mask;
     const std::vector<std::uint8_t>& face_class = options.gt_face_class;
-    if (!face_class.empty() && face_class.size() != gt.numTriangles()) {
-        throw InvalidInput("evaluateGeometry: face classes have " + std::to_string(face_class.size()) +
-                           " entries for " + std::to_string(gt.numTriangles()) +
-                           " ground-truth triangles");
+    points.clear();
+    point_class.clear();
+    if (mask.empty() && face_class.empty()) {
+        points = observed_points;
+        return;
     }
-    std::vector<Vec3f> gt_points;
-    if (mask.empty()) {
-        gt_points = gt_observed_points;
-    } else {
-        std::vector<float> unused;
-        const std::vector<char> point_in = toGt(gt_observed_points, {}, unused);
-        for (std::size_t i = 0; i < gt_observed_points.size(); ++i) {
-            if (point_in[i]) gt_points.push_back(gt_observed_points[i]);
+    std::vector<float> unused;
+    const std::vector<std::int64_t> face = nearestGtFaces(gt, observed_points, {}, unused);
+    for (std::size_t i = 0; i < observed_points.size(); ++i) {
+        if (!mask.empty() && !maskedIn(mask, face[i])) continue;
+        points.push_back(observed_points[i]);
+        if (!face_class.empty()) {
+            point_class.push_back(face[i] >= 0 ? face_class[static_cast<std::size_t>(face[i])] : -1);
         }
     }
-    // The class of each scored observed point: that of its nearest ground-truth triangle.
-    std::vector<int> point_class;
-    if (!face_class.empty()) {
-        point_class.assign(gt_points.size(), -1);
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, gt_points.size(), 512),
-                          [&](const tbb::blocked_range<std::size_t>& r) {
-                              for (std::size_t i = r.begin(); i != r.end(); ++i)
-                                  if (auto cp = gt.closestPoint(gt_points[i], kDistanceCap))
-                                      point_class[i] = face_class[cp->face];
-                          });
-    }
-    m.gt_points_used = gt_points.size();
-    std::vector<float> comp(gt_points.size(), kDistanceCap);
-    if (!pred_triangles.empty()) {
-        const Raycaster pred(pred_vertices, pred_triangles);
-        comp = distancesTo(pred, gt_points);
-    }
-    for (double tau : options.tau_m) {
+}
+
+std::vector<FScore> fscores(const std::vector<float>& acc, const std::vector<float>& comp,
+                            const std::vector<double>& tau_m) {
+    std::vector<FScore> out;
+    for (double tau : tau_m) {
         FScore f;
         f.tau_m = tau;
-        const auto below = [&](const std::vector<float>& d) {
-            if (d.empty()) return 0.0;
-            return static_cast<double>(std::count_if(d.begin(), d.end(),
-                                                     [&](float x) { return x < tau; })) /
-                   static_cast<double>(d.size());
-        };
-        f.precision = below(acc);
-        f.recall = below(comp);
+        f.precision = shareBelow(acc, tau);
+        f.recall = shareBelow(comp, tau);
         f.fscore = f.precision + f.recall > 0
                        ? 2 * f.precision * f.recall / (f.precision + f.recall)
                        : 0.0;
-        m.fscores.push_back(f);
+        out.push_back(f);
     }
+    return out;
+}
+
+}  // namespace
+
+GeometryMetrics evaluateGeometry(const std::vector<Vec3f>& pred_vertices,
+                                 const std::vector<std::array<std::uint32_t, 3>>& pred_triangles,
+                                 const Raycaster& gt, const std::vector<Vec3f>& gt_observed_points,
+                                 const GeometryEvalOptions& options,
+                                 std::vector<float>* pred_vertex_error) {
+    checkOptions(options, gt);
+    GeometryMetrics m;
+    m.pred_faces = pred_triangles.size();
+
+    // Accuracy (prediction -> ground truth) on the observed part.
+    const std::vector<Vec3f> samples = predictionSamples(pred_vertices, pred_triangles, options);
+    m.pred_samples = samples.size();
+    const std::vector<char> keep =
+        nearObserved(samples, gt_observed_points, options.observed_cutoff_m);
+    const std::vector<float> acc = accuracyDistances(gt, samples, keep, options.gt_face_mask);
+    m.pred_samples_used = acc.size();
+
+    // Completeness (observed ground truth -> prediction).
+    std::vector<Vec3f> gt_points;
+    std::vector<int> point_class;
+    scoredGtPoints(gt, gt_observed_points, options, gt_points, point_class);
+    m.gt_points_used = gt_points.size();
+    std::vector<float> comp(gt_points.size(), kDistanceCap);
+    if (!pred_triangles.empty()) comp = distancesTo(Raycaster(pred_vertices, pred_triangles), gt_points);
+
+    m.fscores = fscores(acc, comp, options.tau_m);
     if (!point_class.empty()) m.per_class = perClassCompleteness(point_class, comp, options.tau_m);
     m.accuracy = distanceStats(acc);
     m.completeness = distanceStats(comp);
