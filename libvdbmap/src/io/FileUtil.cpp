@@ -75,6 +75,21 @@ std::string fileLine(const std::filesystem::path& path, std::size_t line_number)
     return path.string() + ":" + std::to_string(line_number);
 }
 
+void forEachLine(const std::filesystem::path& path, const std::function<void(const TextLine&)>& fn) {
+    std::istringstream lines(readWholeFile(path));
+    TextLine line;
+    while (std::getline(lines, line.text)) {
+        ++line.number;
+        line.tokens = splitWhitespace(line.text);
+        fn(line);
+    }
+}
+
+std::string lineMessage(const std::filesystem::path& path, const TextLine& line,
+                        const std::string& why) {
+    return fileLine(path, line.number) + ": " + why + ": '" + line.text.substr(0, 120) + "'";
+}
+
 std::ofstream openOutput(const std::filesystem::path& temp_path,
                          const std::filesystem::path& final_path) {
     std::ofstream out(temp_path, std::ios::binary | std::ios::trunc);

@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -28,6 +29,22 @@ bool parseDoubles(const std::vector<std::string>& tokens, std::size_t first,
 
 /// "path:line": the prefix of every line-level error message.
 std::string fileLine(const std::filesystem::path& path, std::size_t line_number);
+
+/// One line of a text file being parsed: its 1-based number, its text, its tokens
+/// (splitWhitespace).
+struct TextLine {
+    std::size_t number = 0;
+    std::string text;
+    std::vector<std::string> tokens;
+};
+
+/// Calls `fn` for every line of the file (read whole: IoError naming it if missing).
+void forEachLine(const std::filesystem::path& path, const std::function<void(const TextLine&)>& fn);
+
+/// "path:line: why: '<line text, at most 120 characters>'", the message of a line-level
+/// IoError.
+std::string lineMessage(const std::filesystem::path& path, const TextLine& line,
+                        const std::string& why);
 
 /// Opens a binary output stream on an AtomicFile's temporary path. Throws IoError.
 std::ofstream openOutput(const std::filesystem::path& temp_path,

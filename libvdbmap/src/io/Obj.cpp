@@ -20,19 +20,13 @@ void appendf(std::string& out, const char* format, double a, double b, double c 
 
 /// Reads a .mtl: newmtl, Kd, map_Kd (other statements ignored). Throws IoError.
 std::vector<ObjMaterial> readMtl(const std::filesystem::path& path) {
-    const std::string text = detail::readWholeFile(path);
-    std::istringstream lines(text);
-    std::string line;
-    std::size_t line_number = 0;
     std::vector<ObjMaterial> materials;
     std::vector<double> v;
-    while (std::getline(lines, line)) {
-        ++line_number;
-        const std::vector<std::string> tok = detail::splitWhitespace(line);
-        if (tok.empty() || tok[0][0] == '#') continue;
+    detail::forEachLine(path, [&](const detail::TextLine& line) {
+        const std::vector<std::string>& tok = line.tokens;
+        if (tok.empty() || tok[0][0] == '#') return;
         const auto fail = [&](const std::string& why) {
-            return IoError(detail::fileLine(path, line_number) + ": " + why + ": '" +
-                           line.substr(0, 120) + "'");
+            return IoError(detail::lineMessage(path, line, why));
         };
         if (tok[0] == "newmtl") {
             if (tok.size() != 2) throw fail("expected 'newmtl <name>'");
@@ -48,8 +42,54 @@ std::vector<ObjMaterial> readMtl(const std::filesystem::path& path) {
                 materials.back().texture = tok.back();  // options (-s, -o ...) come first
             }
         }
-    }
+    });
     return materials;
+}
+
+/// A 1-based (or negative, from the end) OBJ index as a 0-based one below `count`. Written so
+/// that NaN and fractions fail too (no UB in the cast). Throws IoError.
+std::uint32_t objIndex(double index, std::size_t count, const char* what,
+                       const std::filesystem::path& path, const detail::TextLine& line) {
+    const double a = index < 0 ? static_cast<double>(count) + index : index - 1;
+    if (index == 0 || !(a >= 0 && a < static_cast<double>(count)) || a != std::floor(a)) {
+        throw IoError(detail::lineMessage(path, line, std::string(what) + " index " +
+                                                          std::to_string(index) +
+                                                          " out of range (have " +
+                                                          std::to_string(count) + ")"));
+    }
+    return static_cast<std::uint32_t>(a);
+}
+
+/// The triangles of an 'f' line (a fan over its corners). Corner forms: v, v/vt, v//vn,
+/// v/vt/vn; negative indices count from the end.
+void parseFace(const std::filesystem::path& path, const detail::TextLine& line,
+               std::uint32_t material, ObjMesh& mesh) {
+    const std::vector<std::string>& tok = line.tokens;
+    const auto fail = [&](const std::string& why) { return IoError(detail::lineMessage(path, line, why)); };
+    if (tok.size() < 4) throw fail("a face needs at least 3 corners");
+    std::vector<std::array<std::uint32_t, 2>> corners;
+    for (std::size_t k = 1; k < tok.size(); ++k) {
+        const std::string& c = tok[k];
+        const std::size_t slash = c.find('/');
+        double iv = 0, ivt = 0;
+        if (!detail::parseDouble(c.substr(0, slash), iv)) throw fail("bad vertex index");
+        if (slash != std::string::npos) {
+            const std::size_t slash2 = c.find('/', slash + 1);
+            const std::string vt = c.substr(
+                slash + 1, slash2 == std::string::npos ? std::string::npos : slash2 - slash - 1);
+            if (!vt.empty() && !detail::parseDouble(vt, ivt)) throw fail("bad uv index");
+        }
+        const std::uint32_t vi = objIndex(iv, mesh.positions.size(), "vertex", path, line);
+        const std::uint32_t ti = ivt != 0 ? objIndex(ivt, mesh.uvs.size(), "uv", path, line) : 0;
+        corners.push_back({vi, ti});
+    }
+    for (std::size_t k = 1; k + 1 < corners.size(); ++k) {
+        ObjMesh::Triangle tri;
+        tri.v = {corners[0][0], corners[k][0], corners[k + 1][0]};
+        tri.vt = {corners[0][1], corners[k][1], corners[k + 1][1]};
+        tri.material = material;
+        mesh.triangles.push_back(tri);
+    }
 }
 
 }  // namespace
@@ -108,21 +148,15 @@ void writeObj(const std::filesystem::path& path, const ObjMesh& mesh) {
 }
 
 ObjMesh readObj(const std::filesystem::path& path) {
-    const std::string text = detail::readWholeFile(path);
     ObjMesh mesh;
     std::map<std::string, std::uint32_t> material_index;
     std::uint32_t current = 0;
-    std::istringstream lines(text);
-    std::string line;
-    std::size_t line_number = 0;
     std::vector<double> v;
-    while (std::getline(lines, line)) {
-        ++line_number;
-        const std::vector<std::string> tok = detail::splitWhitespace(line);
-        if (tok.empty() || tok[0][0] == '#') continue;
+    detail::forEachLine(path, [&](const detail::TextLine& line) {
+        const std::vector<std::string>& tok = line.tokens;
+        if (tok.empty() || tok[0][0] == '#') return;
         const auto fail = [&](const std::string& why) {
-            return IoError(detail::fileLine(path, line_number) + ": " + why + ": '" +
-                           line.substr(0, 120) + "'");
+            return IoError(detail::lineMessage(path, line, why));
         };
         if (tok[0] == "v") {
             if (!detail::parseDoubles(tok, 1, v) || v.size() < 3) throw fail("'v' needs x y z");
@@ -132,46 +166,10 @@ ObjMesh readObj(const std::filesystem::path& path) {
             if (!detail::parseDoubles(tok, 1, v) || v.size() < 2) throw fail("'vt' needs u v");
             mesh.uvs.emplace_back(static_cast<float>(v[0]), static_cast<float>(v[1]));
         } else if (tok[0] == "f") {
-            if (tok.size() < 4) throw fail("a face needs at least 3 corners");
-            std::vector<std::array<std::uint32_t, 2>> corners;
-            for (std::size_t k = 1; k < tok.size(); ++k) {
-                // Forms: v, v/vt, v//vn, v/vt/vn; negative indices count from the end.
-                const std::string& c = tok[k];
-                const std::size_t slash = c.find('/');
-                double iv = 0, ivt = 0;
-                if (!detail::parseDouble(c.substr(0, slash), iv)) throw fail("bad vertex index");
-                if (slash != std::string::npos) {
-                    const std::size_t slash2 = c.find('/', slash + 1);
-                    const std::string vt =
-                        c.substr(slash + 1, slash2 == std::string::npos ? std::string::npos
-                                                                        : slash2 - slash - 1);
-                    if (!vt.empty() && !detail::parseDouble(vt, ivt)) throw fail("bad uv index");
-                }
-                const auto absolute = [&](double index, std::size_t count, const char* what) {
-                    const double a = index < 0 ? static_cast<double>(count) + index : index - 1;
-                    // Written so that NaN and fractions fail too (no UB in the cast).
-                    if (index == 0 || !(a >= 0 && a < static_cast<double>(count)) ||
-                        a != std::floor(a)) {
-                        throw fail(std::string(what) + " index " + std::to_string(index) +
-                                   " out of range (have " + std::to_string(count) + ")");
-                    }
-                    return static_cast<std::uint32_t>(a);
-                };
-                const std::uint32_t vi = absolute(iv, mesh.positions.size(), "vertex");
-                const std::uint32_t ti = ivt != 0 ? absolute(ivt, mesh.uvs.size(), "uv") : 0;
-                corners.push_back({vi, ti});
-            }
-            for (std::size_t k = 1; k + 1 < corners.size(); ++k) {
-                ObjMesh::Triangle tri;
-                tri.v = {corners[0][0], corners[k][0], corners[k + 1][0]};
-                tri.vt = {corners[0][1], corners[k][1], corners[k + 1][1]};
-                tri.material = current;
-                mesh.triangles.push_back(tri);
-            }
+            parseFace(path, line, current, mesh);
         } else if (tok[0] == "mtllib") {
             if (tok.size() < 2) throw fail("'mtllib' needs a file name");
-            const std::filesystem::path mtl_path = path.parent_path() / tok[1];
-            for (ObjMaterial& m : readMtl(mtl_path)) {
+            for (ObjMaterial& m : readMtl(path.parent_path() / tok[1])) {
                 if (material_index.count(m.name) == 0) {
                     material_index[m.name] = static_cast<std::uint32_t>(mesh.materials.size());
                     mesh.materials.push_back(std::move(m));
@@ -179,15 +177,14 @@ ObjMesh readObj(const std::filesystem::path& path) {
             }
         } else if (tok[0] == "usemtl") {
             if (tok.size() < 2) throw fail("'usemtl' needs a material name");
-            const auto it = material_index.find(tok[1]);
-            if (it == material_index.end()) {
+            if (material_index.count(tok[1]) == 0) {
                 // A material the .mtl does not define: keep it, with default colour.
                 material_index[tok[1]] = static_cast<std::uint32_t>(mesh.materials.size());
                 mesh.materials.push_back(ObjMaterial{tok[1], {0.8f, 0.8f, 0.8f}, ""});
             }
             current = material_index[tok[1]];
         }
-    }
+    });
     return mesh;
 }
 

@@ -22,16 +22,13 @@ bool allFinite(const std::vector<double>& values) {
 }  // namespace
 
 std::vector<Isometry3d> readKittiPoses(const std::filesystem::path& path) {
-    const std::string text = detail::readWholeFile(path);
-    std::istringstream lines(text);
-    std::string line;
-    std::size_t line_number = 0;
     std::vector<Isometry3d> poses;
     std::vector<double> values;
-    while (std::getline(lines, line)) {
-        ++line_number;
-        const std::vector<std::string> tok = detail::splitWhitespace(line);
-        if (tok.empty()) continue;
+    detail::forEachLine(path, [&](const detail::TextLine& text_line) {
+        const std::string& line = text_line.text;
+        const std::size_t line_number = text_line.number;
+        const std::vector<std::string>& tok = text_line.tokens;
+        if (tok.empty()) return;
         if (!detail::parseDoubles(tok, 0, values) || values.size() != 12 || !allFinite(values)) {
             throw IoError(detail::fileLine(path, line_number) +
                           ": KITTI pose line must hold 12 finite numbers (row-major 3x4), got '" +
@@ -52,22 +49,19 @@ std::vector<Isometry3d> readKittiPoses(const std::filesystem::path& path) {
                           std::to_string(R.determinant()));
         }
         poses.push_back(T);
-    }
+    });
     return poses;
 }
 
 std::vector<StampedPose> readTumPoses(const std::filesystem::path& path) {
-    const std::string text = detail::readWholeFile(path);
-    std::istringstream lines(text);
-    std::string line;
-    std::size_t line_number = 0;
     std::vector<StampedPose> poses;
     std::vector<double> v;
-    while (std::getline(lines, line)) {
-        ++line_number;
-        const std::string_view content = detail::trim(line);
-        if (content.empty() || content.front() == '#') continue;
-        if (!detail::parseDoubles(detail::splitWhitespace(content), 0, v) || v.size() != 8 ||
+    detail::forEachLine(path, [&](const detail::TextLine& text_line) {
+        const std::string& line = text_line.text;
+        const std::size_t line_number = text_line.number;
+        const std::vector<std::string>& tok = text_line.tokens;
+        if (tok.empty() || tok.front().front() == '#') return;
+        if (!detail::parseDoubles(tok, 0, v) || v.size() != 8 ||
             !allFinite(v)) {
             throw IoError(detail::fileLine(path, line_number) +
                           ": TUM pose line must hold 8 finite numbers 't tx ty tz qx qy qz qw', "
@@ -86,7 +80,7 @@ std::vector<StampedPose> readTumPoses(const std::filesystem::path& path) {
         pose.T_W_S.linear() = q.toRotationMatrix();
         pose.T_W_S.translation() = Vec3d(v[1], v[2], v[3]);
         poses.push_back(pose);
-    }
+    });
     return poses;
 }
 
