@@ -47,20 +47,21 @@ std::optional<fs::path> findSpotDir(const std::string& assets) {
     return std::nullopt;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-    CLI::App app{
-        "vdbmap-sim: simulated LiDAR + camera sequences with ground truth (KITTI layout, or "
-        "the generic layout with --rig surround)"};
-    vdbmap::SimOptions options;
+// The command-line values that are not SimOptions fields.
+struct CliExtras {
     std::string out_dir;
     std::string assets;
     int threads = 0;
+    bool no_lidar_labels = false;
+    std::string lidar_label_ids = "semantickitti";
+    bool no_images = false;
+};
+
+void addOptions(CLI::App& app, vdbmap::SimOptions& options, CliExtras& cli) {
     app.add_option("scene", options.scene, "Scene: street or suv")
         ->required()
         ->check(CLI::IsMember({"street", "suv"}));
-    app.add_option("-o,--output", out_dir, "Output folder (the sequence)")->required();
+    app.add_option("-o,--output", cli.out_dir, "Output folder (the sequence)")->required();
     app.add_option("--frames", options.frames,
                    "Number of frames (default: street 20, suv 126 = one lap)");
     app.add_option("--seed", options.seed, "Random seed (output is deterministic for a seed)");
@@ -85,11 +86,9 @@ int main(int argc, char** argv) {
     app.add_option("--label-noise", options.label_noise_px,
                    "Jitter of semantic class boundaries in pixels")
         ->check(CLI::Range(0, 50));
-    bool no_lidar_labels = false;
-    app.add_flag("--no-lidar-labels", no_lidar_labels,
+    app.add_flag("--no-lidar-labels", cli.no_lidar_labels,
                  "Do not write per-point LiDAR labels (labels/NNNNNN.label)");
-    std::string lidar_label_ids = "semantickitti";
-    app.add_option("--lidar-label-ids", lidar_label_ids,
+    app.add_option("--lidar-label-ids", cli.lidar_label_ids,
                    "Ids in the .label files: semantickitti (raw SemanticKITTI ids, map them "
                    "with config/label_maps/semantickitti.txt) or ours (the label set's ids)")
         ->check(CLI::IsMember({"semantickitti", "ours"}));
@@ -99,14 +98,51 @@ int main(int argc, char** argv) {
     app.add_option("--lidar-label-boundary", options.lidar_label_boundary_px,
                    "Jitter of LiDAR label class boundaries in range-image pixels")
         ->check(CLI::Range(0, 50));
-    bool no_images = false;
-    app.add_flag("--no-images", no_images, "Write LiDAR and ground truth only");
+    app.add_flag("--no-images", cli.no_images, "Write LiDAR and ground truth only");
     app.add_option("--gt-views", options.gt_views, "Held-out ground-truth views (gt/views)");
-    app.add_option("--assets", assets,
+    app.add_option("--assets", cli.assets,
                    "Folder with spot_triangulated.obj + spot_texture.png (default: search "
                    "$VDBMAP_DATA_DIR/meshes, <prefix>/share/vdbmap/meshes, tests/data/meshes)");
-    app.add_option("--threads", threads, "Worker threads (0 = all cores)");
+    app.add_option("--threads", cli.threads, "Worker threads (0 = all cores)");
     app.add_flag("-q,--quiet", options.quiet, "No progress and no info messages");
+}
+
+// The street's Spot mesh: --assets, else found, else a warning (no class-20 object).
+void findAssets(vdbmap::SimOptions& options, const std::string& assets) {
+    if (options.scene != "street") return;
+    if (const auto spot = findSpotDir(assets)) {
+        options.spot_dir = *spot;
+    } else if (!assets.empty()) {
+        throw vdbmap::IoError("--assets " + assets +
+                              ": no spot_triangulated.obj + spot_texture.png there");
+    } else {
+        vdbmap::logWarn("vdbmap-sim: Spot mesh not found (use --assets DIR); the street "
+                        "has no class-20 object");
+    }
+}
+
+// Writes the sequence; it appears whole or not at all (a failed or killed run leaves nothing).
+void simulate(vdbmap::SimOptions& options, const CliExtras& cli) {
+    findAssets(options, cli.assets);
+    vdbmap::sim::StagedDir staged(cli.out_dir);
+    const vdbmap::SimSummary s = vdbmap::writeSimSequence(options, staged.path());
+    staged.commit();
+    if (!options.quiet) {
+        std::cout << "wrote " << cli.out_dir << ": " << s.frames << " frames, " << s.points
+                  << " LiDAR points, " << s.gt_faces << " ground-truth faces, "
+                  << s.observed_points << " observed points, " << s.seconds << " s\n";
+    }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{
+        "vdbmap-sim: simulated LiDAR + camera sequences with ground truth (KITTI layout, or "
+        "the generic layout with --rig surround)"};
+    vdbmap::SimOptions options;
+    CliExtras cli;
+    addOptions(app, options, cli);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -114,35 +150,16 @@ int main(int argc, char** argv) {
         const int code = app.exit(e);
         return code == 0 ? 0 : 2;
     }
-    options.images = !no_images;
-    options.lidar_labels = !no_lidar_labels;
-    options.lidar_label_semantickitti_ids = lidar_label_ids == "semantickitti";
+    options.images = !cli.no_images;
+    options.lidar_labels = !cli.no_lidar_labels;
+    options.lidar_label_semantickitti_ids = cli.lidar_label_ids == "semantickitti";
     if (options.quiet) vdbmap::setLogLevel(vdbmap::LogLevel::Warn);
     const std::size_t n_threads =
-        threads > 0 ? static_cast<std::size_t>(threads)
-                    : std::max(1u, std::thread::hardware_concurrency());
+        cli.threads > 0 ? static_cast<std::size_t>(cli.threads)
+                        : std::max(1u, std::thread::hardware_concurrency());
     tbb::global_control control(tbb::global_control::max_allowed_parallelism, n_threads);
     try {
-        if (options.scene == "street") {
-            if (const auto spot = findSpotDir(assets)) {
-                options.spot_dir = *spot;
-            } else if (!assets.empty()) {
-                throw vdbmap::IoError("--assets " + assets +
-                                      ": no spot_triangulated.obj + spot_texture.png there");
-            } else {
-                vdbmap::logWarn("vdbmap-sim: Spot mesh not found (use --assets DIR); the street "
-                                "has no class-20 object");
-            }
-        }
-        // The sequence appears whole or not at all (a failed or killed run leaves nothing).
-        vdbmap::sim::StagedDir staged(out_dir);
-        const vdbmap::SimSummary s = vdbmap::writeSimSequence(options, staged.path());
-        staged.commit();
-        if (!options.quiet) {
-            std::cout << "wrote " << out_dir << ": " << s.frames << " frames, " << s.points
-                      << " LiDAR points, " << s.gt_faces << " ground-truth faces, "
-                      << s.observed_points << " observed points, " << s.seconds << " s\n";
-        }
+        simulate(options, cli);
     } catch (const vdbmap::ConfigError& e) {
         std::cerr << "vdbmap-sim: " << e.what() << "\n";
         return 2;
