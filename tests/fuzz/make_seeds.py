@@ -121,6 +121,20 @@ with open(os.path.join(root, "config", "labels_default.txt")) as f:
     put("labelset", "labels_default.txt", f.read())
 put("labelset", "small.txt", "0, road, 128 64 128\n7, car, 0 0 142\n")
 
+# SemanticKITTI .label (+ "\n#--MAP--\n" and a label map file): raw ids with instance bits
+# through the built-in map, through a small map file and the shipped one, an id the map does
+# not know, a truncated file, empty.
+raw = [40, 48, 10 | (3 << 16), 50, 0, 70, 81 | (1 << 16), 252]
+labels = struct.pack("<%dI" % len(raw), *raw)
+put("lidar_labels", "semantickitti_ids.label", labels)
+put("lidar_labels", "small_map.label", labels[:12] + b"\n#--MAP--\n" +
+    b"40 0\n48 1 # sidewalk\n10 7\n")
+with open(os.path.join(root, "config", "label_maps", "semantickitti.txt"), "rb") as f:
+    put("lidar_labels", "shipped_map.label", labels + b"\n#--MAP--\n" + f.read())
+put("lidar_labels", "unknown_id.label", struct.pack("<2I", 40, 9999) + b"\n#--MAP--\n40 0\n")
+put("lidar_labels", "truncated.label", labels[:7])
+put("lidar_labels", "empty.label", b"")
+
 # pipeline YAML (+ "\n#--SET--\n" overrides): small configs of the built-in stages.
 put("pipeline_yaml", "atsdf_mesh.yaml",
     "stages:\n  - stage: integrate.atsdf\n    voxel_size_m: 0.1\n    truncation_mode: adaptive\n"
