@@ -63,117 +63,148 @@ double loadValue(const char* p, char type, std::size_t size) {
     }
 }
 
+// The field columns of a header until its DATA line: FIELDS, SIZE, TYPE, COUNT as given.
+struct PcdColumns {
+    std::vector<std::string> names, sizes, types, counts;
+};
+
+// Throws the message for a bad header line: "<file>:<line>: corrupt PCD header line '...': why".
+struct PcdHeaderLine {
+    const std::filesystem::path& path;
+    std::size_t number;
+    const std::string& text;
+
+    IoError error(const std::string& why) const {
+        return IoError(detail::fileLine(path, number) + ": corrupt PCD header line '" +
+                       text.substr(0, 120) + "': " + why);
+    }
+};
+
+// WIDTH, HEIGHT, POINTS: one non-negative integer. NaN and values past 2^50 are refused
+// before the cast (UB otherwise).
+std::size_t headerCount(const std::vector<std::string>& rest, const PcdHeaderLine& line) {
+    double v = 0;
+    if (rest.size() != 1 || !detail::parseDouble(rest[0], v) || !(v >= 0) || v > 1e15 ||
+        v != std::floor(v)) {
+        throw line.error("expected one non-negative integer");
+    }
+    return static_cast<std::size_t>(v);
+}
+
+// Every token must be one of `allowed` ("SIZE", {"1", "2", "4", "8"}).
+void checkTokens(const std::vector<std::string>& rest, std::initializer_list<const char*> allowed,
+                 const char* key, const char* expected, const PcdHeaderLine& line) {
+    for (const std::string& t : rest) {
+        if (std::none_of(allowed.begin(), allowed.end(), [&](const char* a) { return t == a; })) {
+            throw line.error(std::string("invalid ") + key + " '" + t + "' (expected " + expected + ")");
+        }
+    }
+}
+
+void checkCounts(const std::vector<std::string>& rest, const PcdHeaderLine& line) {
+    for (const std::string& t : rest) {
+        double c = 0;
+        if (!detail::parseDouble(t, c) || !(c >= 1 && c <= 1e6) || c != std::floor(c)) {
+            throw line.error("invalid COUNT '" + t + "' (expected a positive integer)");
+        }
+    }
+}
+
+// At DATA: the fields with their offsets, and the point count checked against WIDTH x HEIGHT.
+void finishHeader(const PcdColumns& c, const PcdHeaderLine& line, PcdHeader& h) {
+    if (c.names.empty()) throw line.error("DATA before FIELDS");
+    if (c.sizes.size() != c.names.size() || c.types.size() != c.names.size() ||
+        (!c.counts.empty() && c.counts.size() != c.names.size())) {
+        throw line.error("FIELDS has " + std::to_string(c.names.size()) +
+                         " names but SIZE/TYPE/COUNT have " + std::to_string(c.sizes.size()) +
+                         "/" + std::to_string(c.types.size()) + "/" +
+                         std::to_string(c.counts.empty() ? c.names.size() : c.counts.size()));
+    }
+    for (std::size_t i = 0; i < c.names.size(); ++i) {
+        PcdField f;
+        f.name = c.names[i];
+        f.size = static_cast<std::size_t>(std::stoul(c.sizes[i]));
+        f.type = c.types[i][0];
+        if (f.type == 'F' && f.size != 4 && f.size != 8) {
+            throw line.error("field '" + f.name + "' is TYPE F with SIZE " + c.sizes[i] +
+                             " (floats are 4 or 8 bytes)");
+        }
+        f.count = c.counts.empty() ? 1 : static_cast<std::size_t>(std::stoul(c.counts[i]));
+        f.offset = h.point_step;
+        h.point_step += f.size * f.count;
+        h.value_count += f.count;
+        h.fields.push_back(f);
+    }
+    if (!h.have_width) throw line.error("no WIDTH line before DATA");
+    if (h.height != 0 && h.width > std::numeric_limits<std::size_t>::max() / h.height) {
+        throw line.error("WIDTH x HEIGHT overflows");
+    }
+    if (!h.have_points) h.points = h.width * h.height;
+    if (h.width * h.height != h.points) {
+        throw line.error("WIDTH x HEIGHT = " + std::to_string(h.width * h.height) +
+                         " but POINTS = " + std::to_string(h.points));
+    }
+}
+
+// One header line: its keyword and values into `c` and `h` (h.data set at DATA).
+void parseHeaderLine(const std::vector<std::string>& tok, const PcdHeaderLine& line,
+                     PcdColumns& c, PcdHeader& h) {
+    const std::string& key = tok[0];
+    const std::vector<std::string> rest(tok.begin() + 1, tok.end());
+    if (key == "VERSION") return;
+    if (key == "FIELDS" || key == "COLUMNS") {
+        if (rest.empty()) throw line.error("no field names");
+        c.names = rest;
+    } else if (key == "SIZE") {
+        checkTokens(rest, {"1", "2", "4", "8"}, "SIZE", "1, 2, 4 or 8", line);
+        c.sizes = rest;
+    } else if (key == "TYPE") {
+        checkTokens(rest, {"F", "U", "I"}, "TYPE", "F, U or I", line);
+        c.types = rest;
+    } else if (key == "COUNT") {
+        checkCounts(rest, line);
+        c.counts = rest;
+    } else if (key == "WIDTH") {
+        h.width = headerCount(rest, line);
+        h.have_width = true;
+    } else if (key == "HEIGHT") {
+        h.height = headerCount(rest, line);
+    } else if (key == "POINTS") {
+        h.points = headerCount(rest, line);
+        h.have_points = true;
+    } else if (key == "VIEWPOINT") {
+        std::vector<double> v;
+        if (!detail::parseDoubles(rest, 0, v) || v.size() != 7) {
+            throw line.error("expected 7 numbers (tx ty tz qw qx qy qz)");
+        }
+    } else if (key == "DATA") {
+        if (rest.size() != 1 ||
+            (rest[0] != "ascii" && rest[0] != "binary" && rest[0] != "binary_compressed")) {
+            throw line.error("expected 'DATA ascii', 'DATA binary' or 'DATA binary_compressed'");
+        }
+        finishHeader(c, line, h);
+        h.data = rest[0];
+    } else {
+        throw line.error("unknown keyword '" + key + "'");
+    }
+}
+
 PcdHeader parseHeader(const std::string& bytes, const std::filesystem::path& path) {
     PcdHeader h;
+    PcdColumns columns;
     std::size_t pos = 0;
     std::size_t line_number = 0;
-    std::vector<std::string> names, sizes, types, counts;
     while (h.data.empty()) {
         const std::size_t end = bytes.find('\n', pos);
         if (end == std::string::npos) {
             throw IoError(path.string() + ": corrupt PCD header: no DATA line");
         }
-        const std::string line(detail::trim(std::string_view(bytes).substr(pos, end - pos)));
+        const std::string text(detail::trim(std::string_view(bytes).substr(pos, end - pos)));
         pos = end + 1;
         ++line_number;
-        if (line.empty() || line[0] == '#') continue;
-        const auto fail = [&](const std::string& why) {
-            return IoError(detail::fileLine(path, line_number) + ": corrupt PCD header line '" +
-                           line.substr(0, 120) + "': " + why);
-        };
-        const std::vector<std::string> tok = detail::splitWhitespace(line);
-        const std::string& key = tok[0];
-        const std::vector<std::string> rest(tok.begin() + 1, tok.end());
-        const auto count = [&]() {
-            double v = 0;
-            // NaN and values past 2^50 are refused before the cast (UB otherwise).
-            if (rest.size() != 1 || !detail::parseDouble(rest[0], v) || !(v >= 0) ||
-                v > 1e15 || v != std::floor(v)) {
-                throw fail("expected one non-negative integer");
-            }
-            return static_cast<std::size_t>(v);
-        };
-        if (key == "VERSION") {
-            continue;
-        } else if (key == "FIELDS" || key == "COLUMNS") {
-            if (rest.empty()) throw fail("no field names");
-            names = rest;
-        } else if (key == "SIZE") {
-            for (const std::string& t : rest) {
-                if (t != "1" && t != "2" && t != "4" && t != "8") {
-                    throw fail("invalid SIZE '" + t + "' (expected 1, 2, 4 or 8)");
-                }
-            }
-            sizes = rest;
-        } else if (key == "TYPE") {
-            for (const std::string& t : rest) {
-                if (t != "F" && t != "U" && t != "I") {
-                    throw fail("invalid TYPE '" + t + "' (expected F, U or I)");
-                }
-            }
-            types = rest;
-        } else if (key == "COUNT") {
-            for (const std::string& t : rest) {
-                double c = 0;
-                if (!detail::parseDouble(t, c) || !(c >= 1 && c <= 1e6) || c != std::floor(c)) {
-                    throw fail("invalid COUNT '" + t + "' (expected a positive integer)");
-                }
-            }
-            counts = rest;
-        } else if (key == "WIDTH") {
-            h.width = count();
-            h.have_width = true;
-        } else if (key == "HEIGHT") {
-            h.height = count();
-        } else if (key == "POINTS") {
-            h.points = count();
-            h.have_points = true;
-        } else if (key == "VIEWPOINT") {
-            std::vector<double> v;
-            if (!detail::parseDoubles(rest, 0, v) || v.size() != 7) {
-                throw fail("expected 7 numbers (tx ty tz qw qx qy qz)");
-            }
-        } else if (key == "DATA") {
-            if (rest.size() != 1 ||
-                (rest[0] != "ascii" && rest[0] != "binary" && rest[0] != "binary_compressed")) {
-                throw fail("expected 'DATA ascii', 'DATA binary' or 'DATA binary_compressed'");
-            }
-            if (names.empty()) throw fail("DATA before FIELDS");
-            if (sizes.size() != names.size() || types.size() != names.size() ||
-                (!counts.empty() && counts.size() != names.size())) {
-                throw fail("FIELDS has " + std::to_string(names.size()) +
-                           " names but SIZE/TYPE/COUNT have " + std::to_string(sizes.size()) + "/" +
-                           std::to_string(types.size()) + "/" +
-                           std::to_string(counts.empty() ? names.size() : counts.size()));
-            }
-            for (std::size_t i = 0; i < names.size(); ++i) {
-                PcdField f;
-                f.name = names[i];
-                f.size = static_cast<std::size_t>(std::stoul(sizes[i]));
-                f.type = types[i][0];
-                if (f.type == 'F' && f.size != 4 && f.size != 8) {
-                    throw fail("field '" + f.name + "' is TYPE F with SIZE " + sizes[i] +
-                               " (floats are 4 or 8 bytes)");
-                }
-                f.count = counts.empty() ? 1 : static_cast<std::size_t>(std::stoul(counts[i]));
-                f.offset = h.point_step;
-                h.point_step += f.size * f.count;
-                h.value_count += f.count;
-                h.fields.push_back(f);
-            }
-            if (!h.have_width) throw fail("no WIDTH line before DATA");
-            if (h.height != 0 && h.width > std::numeric_limits<std::size_t>::max() / h.height) {
-                throw fail("WIDTH x HEIGHT overflows");
-            }
-            if (!h.have_points) h.points = h.width * h.height;
-            if (h.width * h.height != h.points) {
-                throw fail("WIDTH x HEIGHT = " + std::to_string(h.width * h.height) +
-                           " but POINTS = " + std::to_string(h.points));
-            }
-            h.data = rest[0];
-        } else {
-            throw fail("unknown keyword '" + key + "'");
-        }
+        if (text.empty() || text[0] == '#') continue;
+        parseHeaderLine(detail::splitWhitespace(text), PcdHeaderLine{path, line_number, text},
+                        columns, h);
     }
     h.data_offset = pos;
     return h;
