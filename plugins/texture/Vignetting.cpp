@@ -3,6 +3,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "vdbmap/Error.h"
@@ -62,23 +63,52 @@ VignettingParams polynomialFromLogGain(double alpha, double beta, double gamma) 
     return {p(0), p(1), p(2)};
 }
 
-}  // namespace
+// The unknowns x of the joint fit: an exposure e_v per view, then (alpha, beta, gamma) of the
+// log-gain h_c(r) = alpha r^2 + beta r^4 + gamma r^6 per camera.
+struct VignettingUnknowns {
+    const std::vector<std::uint32_t>& view_camera;
+    std::size_t num_views() const { return view_camera.size(); }
+    std::size_t size(std::size_t num_cameras) const { return num_views() + 3 * num_cameras; }
+    std::size_t cameraOffset(std::uint32_t view) const { return num_views() + 3 * view_camera[view]; }
 
-std::vector<VignettingEstimate> estimateVignetting(const std::vector<VignettingSample>& samples,
-                                                   const std::vector<std::uint32_t>& view_camera,
-                                                   std::size_t num_cameras) {
-    std::vector<VignettingEstimate> result(num_cameras);
-    const std::size_t num_views = view_camera.size();
+    // One pair's row of the linear system:
+    // e_i - e_j - h_ci(r_i) + h_cj(r_j) = log L_i - log L_j.
+    std::array<std::pair<std::size_t, double>, 8> row(const Pair& pr) const {
+        const std::size_t ci = cameraOffset(pr.view_i), cj = cameraOffset(pr.view_j);
+        const double ri2 = double(pr.r_i) * pr.r_i, rj2 = double(pr.r_j) * pr.r_j;
+        return {{{pr.view_i, 1.0},
+                 {pr.view_j, -1.0},
+                 {ci, -ri2},
+                 {ci + 1, -ri2 * ri2},
+                 {ci + 2, -ri2 * ri2 * ri2},
+                 {cj, rj2},
+                 {cj + 1, rj2 * rj2},
+                 {cj + 2, rj2 * rj2 * rj2}}};
+    }
+
+    double residual(const Pair& pr, const Eigen::VectorXd& x) const {
+        double r = -pr.log_ratio;
+        for (const auto& [a, v] : row(pr)) r += v * x(a);
+        return r;
+    }
+};
+
+void checkSamples(const std::vector<VignettingSample>& samples,
+                  const std::vector<std::uint32_t>& view_camera, std::size_t num_cameras) {
     for (const auto& s : samples) {
-        if (s.view >= num_views) {
+        if (s.view >= view_camera.size()) {
             throw InvalidInput("estimateVignetting: sample view " + std::to_string(s.view) +
-                               " out of range (" + std::to_string(num_views) + " views)");
+                               " out of range (" + std::to_string(view_camera.size()) + " views)");
         }
         if (view_camera[s.view] >= num_cameras) {
             throw InvalidInput("estimateVignetting: camera index out of range");
         }
     }
-    // Pair every observation with the first observation of the same face.
+}
+
+// Every observation paired with the first observation of the same face (samples come sorted
+// by face).
+std::vector<Pair> pairObservations(const std::vector<VignettingSample>& samples) {
     std::vector<Pair> pairs;
     for (std::size_t begin = 0; begin < samples.size();) {
         std::size_t end = begin + 1;
@@ -92,87 +122,82 @@ std::vector<VignettingEstimate> estimateVignetting(const std::vector<VignettingS
         }
         begin = end;
     }
-    const std::size_t n = num_views + 3 * num_cameras;
+    return pairs;
+}
+
+// Least squares over the inlier pairs (normal equations). Gauge: the exposures are known up to
+// a constant; sum(e) = 0 fixes it, and a tiny ridge keeps views without pairs (and unobserved
+// cameras) well-posed. Counts the inlier pairs per camera.
+Eigen::VectorXd solveInliers(const std::vector<Pair>& pairs, const std::vector<char>& inlier,
+                             const VignettingUnknowns& u, std::size_t num_cameras,
+                             std::vector<std::size_t>& pairs_per_camera) {
+    const std::size_t n = u.size(num_cameras);
+    Eigen::MatrixXd AtA = Eigen::MatrixXd::Zero(n, n);
+    Eigen::VectorXd Atb = Eigen::VectorXd::Zero(n);
+    pairs_per_camera.assign(num_cameras, 0);
+    for (std::size_t p = 0; p < pairs.size(); ++p) {
+        if (!inlier[p]) continue;
+        const auto row = u.row(pairs[p]);
+        for (const auto& [a, va] : row) {
+            Atb(a) += va * pairs[p].log_ratio;
+            for (const auto& [b, vb] : row) AtA(a, b) += va * vb;
+        }
+        ++pairs_per_camera[u.view_camera[pairs[p].view_i]];
+        ++pairs_per_camera[u.view_camera[pairs[p].view_j]];
+    }
+    AtA.topLeftCorner(u.num_views(), u.num_views()).array() += 1.0;
+    AtA.diagonal().array() += 1e-9;
+    return AtA.ldlt().solve(Atb);
+}
+
+// Rejects occluded / inconsistent pairs: |residual| > 3 robust sigma. False if no pair is left
+// to judge.
+bool rejectOutliers(const std::vector<Pair>& pairs, const VignettingUnknowns& u,
+                    const Eigen::VectorXd& x, std::vector<char>& inlier) {
+    if (pairs.empty()) return false;
+    std::vector<double> res(pairs.size());
+    for (std::size_t p = 0; p < pairs.size(); ++p) res[p] = u.residual(pairs[p], x);
+    std::vector<double> abs_res(res.size());
+    std::transform(res.begin(), res.end(), abs_res.begin(), [](double r) { return std::abs(r); });
+    std::nth_element(abs_res.begin(), abs_res.begin() + abs_res.size() / 2, abs_res.end());
+    const double sigma = std::max(1.4826 * abs_res[abs_res.size() / 2], 1e-4);
+    for (std::size_t p = 0; p < pairs.size(); ++p) inlier[p] = std::abs(res[p]) <= 3.0 * sigma;
+    return true;
+}
+
+}  // namespace
+
+std::vector<VignettingEstimate> estimateVignetting(const std::vector<VignettingSample>& samples,
+                                                   const std::vector<std::uint32_t>& view_camera,
+                                                   std::size_t num_cameras) {
+    checkSamples(samples, view_camera, num_cameras);
+    const std::vector<Pair> pairs = pairObservations(samples);
+    const VignettingUnknowns u{view_camera};
     std::vector<char> inlier(pairs.size(), 1);
-    Eigen::VectorXd x = Eigen::VectorXd::Zero(n);
-    std::vector<std::size_t> pairs_per_camera(num_cameras, 0);
+    std::vector<std::size_t> pairs_per_camera;
+    Eigen::VectorXd x;
     for (int round = 0; round < 3; ++round) {
-        Eigen::MatrixXd AtA = Eigen::MatrixXd::Zero(n, n);
-        Eigen::VectorXd Atb = Eigen::VectorXd::Zero(n);
-        std::fill(pairs_per_camera.begin(), pairs_per_camera.end(), 0);
-        for (std::size_t p = 0; p < pairs.size(); ++p) {
-            if (!inlier[p]) continue;
-            const Pair& pr = pairs[p];
-            // Row: e_i - e_j - h_ci(r_i) + h_cj(r_j) = log L_i - log L_j.
-            std::array<std::pair<std::size_t, double>, 8> row;
-            const std::size_t ci = num_views + 3 * view_camera[pr.view_i];
-            const std::size_t cj = num_views + 3 * view_camera[pr.view_j];
-            const double ri2 = double(pr.r_i) * pr.r_i, rj2 = double(pr.r_j) * pr.r_j;
-            row[0] = {pr.view_i, 1.0};
-            row[1] = {pr.view_j, -1.0};
-            row[2] = {ci, -ri2};
-            row[3] = {ci + 1, -ri2 * ri2};
-            row[4] = {ci + 2, -ri2 * ri2 * ri2};
-            row[5] = {cj, rj2};
-            row[6] = {cj + 1, rj2 * rj2};
-            row[7] = {cj + 2, rj2 * rj2 * rj2};
-            for (const auto& [a, va] : row) {
-                Atb(a) += va * pr.log_ratio;
-                for (const auto& [b, vb] : row) AtA(a, b) += va * vb;
-            }
-            ++pairs_per_camera[view_camera[pr.view_i]];
-            ++pairs_per_camera[view_camera[pr.view_j]];
-        }
-        // Gauge: the exposures are known up to a constant; sum(e) = 0 fixes it, and a tiny
-        // ridge keeps views without pairs (and unobserved cameras) well-posed.
-        for (std::size_t a = 0; a < num_views; ++a) {
-            for (std::size_t b = 0; b < num_views; ++b) AtA(a, b) += 1.0;
-        }
-        AtA.diagonal().array() += 1e-9;
-        x = AtA.ldlt().solve(Atb);
-        if (round == 2) break;
-        // Reject occluded / inconsistent pairs: |residual| > 3 robust sigma.
-        std::vector<double> abs_res;
-        abs_res.reserve(pairs.size());
-        std::vector<double> res(pairs.size(), 0.0);
-        for (std::size_t p = 0; p < pairs.size(); ++p) {
-            const Pair& pr = pairs[p];
-            const std::size_t ci = num_views + 3 * view_camera[pr.view_i];
-            const std::size_t cj = num_views + 3 * view_camera[pr.view_j];
-            const double ri2 = double(pr.r_i) * pr.r_i, rj2 = double(pr.r_j) * pr.r_j;
-            const double h_i = x(ci) * ri2 + x(ci + 1) * ri2 * ri2 + x(ci + 2) * ri2 * ri2 * ri2;
-            const double h_j = x(cj) * rj2 + x(cj + 1) * rj2 * rj2 + x(cj + 2) * rj2 * rj2 * rj2;
-            res[p] = x(pr.view_i) - x(pr.view_j) - h_i + h_j - pr.log_ratio;
-            abs_res.push_back(std::abs(res[p]));
-        }
-        if (abs_res.empty()) break;
-        std::nth_element(abs_res.begin(), abs_res.begin() + abs_res.size() / 2, abs_res.end());
-        const double sigma = std::max(1.4826 * abs_res[abs_res.size() / 2], 1e-4);
-        for (std::size_t p = 0; p < pairs.size(); ++p) inlier[p] = std::abs(res[p]) <= 3.0 * sigma;
+        x = solveInliers(pairs, inlier, u, num_cameras, pairs_per_camera);
+        if (round == 2 || !rejectOutliers(pairs, u, x, inlier)) break;
     }
     // Final residual per camera.
     std::vector<double> sum_sq(num_cameras, 0.0);
     std::vector<std::size_t> count(num_cameras, 0);
     for (std::size_t p = 0; p < pairs.size(); ++p) {
         if (!inlier[p]) continue;
-        const Pair& pr = pairs[p];
-        const std::size_t ci = num_views + 3 * view_camera[pr.view_i];
-        const std::size_t cj = num_views + 3 * view_camera[pr.view_j];
-        const double ri2 = double(pr.r_i) * pr.r_i, rj2 = double(pr.r_j) * pr.r_j;
-        const double h_i = x(ci) * ri2 + x(ci + 1) * ri2 * ri2 + x(ci + 2) * ri2 * ri2 * ri2;
-        const double h_j = x(cj) * rj2 + x(cj + 1) * rj2 * rj2 + x(cj + 2) * rj2 * rj2 * rj2;
-        const double r = x(pr.view_i) - x(pr.view_j) - h_i + h_j - pr.log_ratio;
-        for (std::uint32_t cam : {view_camera[pr.view_i], view_camera[pr.view_j]}) {
+        const double r = u.residual(pairs[p], x);
+        for (std::uint32_t cam : {view_camera[pairs[p].view_i], view_camera[pairs[p].view_j]}) {
             sum_sq[cam] += r * r;
             ++count[cam];
         }
     }
     constexpr std::size_t kMinPairs = 30;
+    std::vector<VignettingEstimate> result(num_cameras);
     for (std::size_t cam = 0; cam < num_cameras; ++cam) {
         VignettingEstimate& est = result[cam];
         est.pairs_used = pairs_per_camera[cam];
         if (pairs_per_camera[cam] < kMinPairs) continue;
-        const std::size_t c = num_views + 3 * cam;
+        const std::size_t c = view_camera.size() + 3 * cam;
         est.params = polynomialFromLogGain(x(c), x(c + 1), x(c + 2));
         est.rms_log_residual = count[cam] ? std::sqrt(sum_sq[cam] / count[cam]) : 0.0;
     }

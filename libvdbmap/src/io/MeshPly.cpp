@@ -110,106 +110,133 @@ TriMesh readMeshPly(const std::filesystem::path& path, std::vector<std::uint8_t>
     return readMeshPly(path, face_labels, nullptr);
 }
 
+namespace {
+
+// Scalar slot of a property (its position among the element's non-list properties), or -1.
+int scalarSlot(const detail::PlyElement& element, const std::string& name) {
+    int s = 0;
+    for (const auto& p : element.properties) {
+        if (p.name == name) return p.is_list ? -1 : s;
+        if (!p.is_list) ++s;
+    }
+    return -1;
+}
+
+// List slot of a property (its position among the element's list properties), or -1.
+int listSlot(const detail::PlyElement& element, const std::string& name) {
+    int s = 0;
+    for (const auto& p : element.properties) {
+        if (p.name == name) return p.is_list ? s : -1;
+        if (p.is_list) ++s;
+    }
+    return -1;
+}
+
+// What readMeshPly builds while it walks the elements.
+struct PlyMeshBuild {
+    TriMesh mesh;
+    std::vector<TriMesh::VertexHandle> handles;  // file vertex index -> handle
+    std::vector<std::uint8_t>* face_labels = nullptr;
+    PlyReadStats counts;
+};
+
+void readVertices(const detail::PlyElement& element, detail::PlyDataReader& reader,
+                  const std::filesystem::path& path, PlyMeshBuild& build) {
+    const int ix = scalarSlot(element, "x"), iy = scalarSlot(element, "y");
+    const int iz = scalarSlot(element, "z");
+    const int inx = scalarSlot(element, "nx"), iny = scalarSlot(element, "ny");
+    const int inz = scalarSlot(element, "nz");
+    if (ix < 0 || iy < 0 || iz < 0) {
+        throw IoError(path.string() + ": PLY vertex element lacks x, y or z");
+    }
+    const bool has_normals = inx >= 0 && iny >= 0 && inz >= 0;
+    std::vector<double> s;
+    std::vector<std::vector<double>> lists;
+    for (std::size_t k = 0; k < element.count; ++k) {
+        reader.read(element, s, lists);
+        const auto vh = build.mesh.add_vertex(TriMesh::Point(
+            static_cast<float>(s[ix]), static_cast<float>(s[iy]), static_cast<float>(s[iz])));
+        if (has_normals) {
+            build.mesh.set_normal(vh, TriMesh::Normal(static_cast<float>(s[inx]),
+                                                      static_cast<float>(s[iny]),
+                                                      static_cast<float>(s[inz])));
+        }
+        build.handles.push_back(vh);
+    }
+}
+
+// Fan triangulation of one polygon; triangles OpenMesh rejects (non-manifold, repeated
+// corners) are skipped and counted, so that labels stay aligned with the faces that exist.
+void addPolygon(const std::vector<TriMesh::VertexHandle>& corners, int label,
+                PlyMeshBuild& build) {
+    ++build.counts.file_faces;
+    for (std::size_t c = 1; c + 1 < corners.size(); ++c) {
+        ++build.counts.triangles;
+        const bool repeated = corners[0] == corners[c] || corners[c] == corners[c + 1] ||
+                              corners[0] == corners[c + 1];
+        const auto fh = repeated ? TriMesh::FaceHandle()
+                                 : build.mesh.add_face(corners[0], corners[c], corners[c + 1]);
+        if (!fh.is_valid()) {
+            ++build.counts.rejected_triangles;
+        } else if (build.face_labels != nullptr) {
+            build.face_labels->push_back(static_cast<std::uint8_t>(label));
+        }
+    }
+}
+
+void readFaces(const detail::PlyElement& element, detail::PlyDataReader& reader,
+               const std::filesystem::path& path, PlyMeshBuild& build) {
+    int il = listSlot(element, "vertex_indices");
+    if (il < 0) il = listSlot(element, "vertex_index");
+    if (il < 0) throw IoError(path.string() + ": PLY face element has no vertex_indices list");
+    const int ilabel = scalarSlot(element, "label");
+    std::vector<double> s;
+    std::vector<std::vector<double>> lists;
+    std::vector<TriMesh::VertexHandle> corners;
+    for (std::size_t k = 0; k < element.count; ++k) {
+        reader.read(element, s, lists);
+        if (ilabel >= 0 && !(s[ilabel] >= 0 && s[ilabel] <= 255)) {
+            throw IoError(path.string() + ": PLY face " + std::to_string(k) + " has label " +
+                          std::to_string(s[ilabel]) + " (class ids are 0..255)");
+        }
+        corners.clear();
+        for (const double index : lists[il]) {
+            if (!(index >= 0 && index < static_cast<double>(build.handles.size()))) {
+                throw IoError(path.string() + ": PLY face " + std::to_string(k) +
+                              " refers to vertex " + std::to_string(index) + " of " +
+                              std::to_string(build.handles.size()));
+            }
+            corners.push_back(build.handles[static_cast<std::size_t>(index)]);
+        }
+        addPolygon(corners, ilabel >= 0 ? static_cast<int>(s[ilabel]) : 255, build);
+    }
+}
+
+}  // namespace
+
 TriMesh readMeshPly(const std::filesystem::path& path, std::vector<std::uint8_t>* face_labels,
                     PlyReadStats* stats) {
-    PlyReadStats counts;
     const std::string bytes = detail::readWholeFile(path);
     const detail::PlyHeader header = detail::parsePlyHeader(bytes, path);
-    TriMesh mesh;
+    PlyMeshBuild build;
+    build.face_labels = face_labels;
     if (face_labels != nullptr) face_labels->clear();
     detail::PlyDataReader reader(bytes, header, path);
     std::vector<double> scalars;
     std::vector<std::vector<double>> lists;
-    std::vector<TriMesh::VertexHandle> handles;
+    bool any_label = false;
     for (const detail::PlyElement& element : header.elements) {
-        // Scalar slot of a property (its position among non-list properties), or -1.
-        const auto slot = [&](const std::string& name) {
-            int s = 0;
-            for (const auto& p : element.properties) {
-                if (p.name == name) return p.is_list ? -1 : s;
-                if (!p.is_list) ++s;
-            }
-            return -1;
-        };
-        const auto listSlot = [&](const std::string& name) {
-            int s = 0;
-            for (const auto& p : element.properties) {
-                if (p.name == name) return p.is_list ? s : -1;
-                if (p.is_list) ++s;
-            }
-            return -1;
-        };
         if (element.name == "vertex") {
-            const int ix = slot("x"), iy = slot("y"), iz = slot("z");
-            const int inx = slot("nx"), iny = slot("ny"), inz = slot("nz");
-            if (ix < 0 || iy < 0 || iz < 0) {
-                throw IoError(path.string() + ": PLY vertex element lacks x, y or z");
-            }
-            const bool has_normals = inx >= 0 && iny >= 0 && inz >= 0;
-            for (std::size_t k = 0; k < element.count; ++k) {
-                reader.read(element, scalars, lists);
-                const auto vh = mesh.add_vertex(TriMesh::Point(static_cast<float>(scalars[ix]),
-                                                               static_cast<float>(scalars[iy]),
-                                                               static_cast<float>(scalars[iz])));
-                if (has_normals) {
-                    mesh.set_normal(vh, TriMesh::Normal(static_cast<float>(scalars[inx]),
-                                                        static_cast<float>(scalars[iny]),
-                                                        static_cast<float>(scalars[inz])));
-                }
-                handles.push_back(vh);
-            }
+            readVertices(element, reader, path, build);
         } else if (element.name == "face") {
-            int il = listSlot("vertex_indices");
-            if (il < 0) il = listSlot("vertex_index");
-            if (il < 0)
-                throw IoError(path.string() + ": PLY face element has no vertex_indices list");
-            const int ilabel = slot("label");
-            std::vector<TriMesh::VertexHandle> corners;
-            for (std::size_t k = 0; k < element.count; ++k) {
-                reader.read(element, scalars, lists);
-                const std::vector<double>& indices = lists[il];
-                if (ilabel >= 0 && !(scalars[ilabel] >= 0 && scalars[ilabel] <= 255)) {
-                    throw IoError(path.string() + ": PLY face " + std::to_string(k) +
-                                  " has label " + std::to_string(scalars[ilabel]) +
-                                  " (class ids are 0..255)");
-                }
-                corners.clear();
-                for (const double index : indices) {
-                    if (!(index >= 0 && index < static_cast<double>(handles.size()))) {
-                        throw IoError(path.string() + ": PLY face " + std::to_string(k) +
-                                      " refers to vertex " + std::to_string(index) + " of " +
-                                      std::to_string(handles.size()));
-                    }
-                    corners.push_back(handles[static_cast<std::size_t>(index)]);
-                }
-                // Fan triangulation of polygons; faces OpenMesh rejects (non-manifold) are
-                // skipped so that labels stay aligned with the faces that exist.
-                ++counts.file_faces;
-                for (std::size_t c = 1; c + 1 < corners.size(); ++c) {
-                    ++counts.triangles;
-                    const bool repeated = corners[0] == corners[c] ||
-                                          corners[c] == corners[c + 1] ||
-                                          corners[0] == corners[c + 1];
-                    const auto fh = repeated ? TriMesh::FaceHandle()
-                                             : mesh.add_face(corners[0], corners[c], corners[c + 1]);
-                    if (!fh.is_valid()) ++counts.rejected_triangles;
-                    if (fh.is_valid() && face_labels != nullptr) {
-                        face_labels->push_back(
-                            ilabel >= 0 ? static_cast<std::uint8_t>(scalars[ilabel]) : 255);
-                    }
-                }
-            }
+            any_label = any_label || element.find("label") >= 0;
+            readFaces(element, reader, path, build);
         } else {
             for (std::size_t k = 0; k < element.count; ++k) reader.read(element, scalars, lists);
         }
     }
-    if (face_labels != nullptr) {
-        bool any_label = false;
-        for (const auto& element : header.elements) {
-            if (element.name == "face" && element.find("label") >= 0) any_label = true;
-        }
-        if (!any_label) face_labels->clear();
-    }
+    if (face_labels != nullptr && !any_label) face_labels->clear();
+    const PlyReadStats& counts = build.counts;
     if (counts.rejected_triangles > 0) {
         logWarn(path.string() + ": " + std::to_string(counts.rejected_triangles) + " of " +
                 std::to_string(counts.triangles) +
@@ -217,7 +244,7 @@ TriMesh readMeshPly(const std::filesystem::path& path, std::vector<std::uint8_t>
                 "them)");
     }
     if (stats != nullptr) *stats = counts;
-    return mesh;
+    return std::move(build.mesh);
 }
 
 }  // namespace vdbmap
