@@ -125,36 +125,29 @@ void addArrow(SimScene& s, const Materials& mat, float x, float y) {
                   {1, 0.5f}, {0, 1}, mat.lane, kLaneMarking);
 }
 
-}  // namespace
-
-SceneSetup buildStreetScene(const StreetSceneOptions& options) {
-    if (!(options.length_m >= 20.0) || options.frames == 0) {
-        throw InvalidInput("street scene: length must be >= 20 m and frames > 0 (got " +
-                           std::to_string(options.length_m) + " m, " +
-                           std::to_string(options.frames) + " frames)");
-    }
-    SceneSetup setup;
-    SimScene& s = setup.scene;
-    std::mt19937 rng(static_cast<std::uint32_t>(options.seed));
-    const std::uint64_t seed = options.seed;
+Materials addMaterials(SimScene& s, std::uint64_t seed) {
     Materials mat{};
-    mat.asphalt = s.addMaterial("asphalt", proceduralTexture("asphalt", seed));
-    mat.lane = s.addMaterial("lane", proceduralTexture("lane", seed));
-    mat.sidewalk = s.addMaterial("sidewalk", proceduralTexture("sidewalk", seed));
-    mat.curb = s.addMaterial("curb", proceduralTexture("curb", seed));
-    mat.brick = s.addMaterial("brick", proceduralTexture("brick", seed));
-    mat.glass = s.addMaterial("glass", proceduralTexture("glass", seed));
-    mat.metal = s.addMaterial("metal", proceduralTexture("metal", seed));
-    mat.sign = s.addMaterial("sign", proceduralTexture("sign", seed));
-    mat.foliage = s.addMaterial("foliage", proceduralTexture("foliage", seed));
-    mat.bark = s.addMaterial("bark", proceduralTexture("bark", seed));
-    mat.car[0] = s.addMaterial("car_red", proceduralTexture("car_red", seed));
-    mat.car[1] = s.addMaterial("car_blue", proceduralTexture("car_blue", seed));
-    mat.car[2] = s.addMaterial("car_silver", proceduralTexture("car_silver", seed));
-    mat.tyre = s.addMaterial("tyre", proceduralTexture("tyre", seed));
+    const auto add = [&](const char* name) { return s.addMaterial(name, proceduralTexture(name, seed)); };
+    mat.asphalt = add("asphalt");
+    mat.lane = add("lane");
+    mat.sidewalk = add("sidewalk");
+    mat.curb = add("curb");
+    mat.brick = add("brick");
+    mat.glass = add("glass");
+    mat.metal = add("metal");
+    mat.sign = add("sign");
+    mat.foliage = add("foliage");
+    mat.bark = add("bark");
+    mat.car[0] = add("car_red");
+    mat.car[1] = add("car_blue");
+    mat.car[2] = add("car_silver");
+    mat.tyre = add("tyre");
+    return mat;
+}
 
-    const float L = static_cast<float>(options.length_m);
-    const float seg = 5.0f;  // road built in 5 m pieces so faces stay small
+// Road, sidewalks with kerbs and solid edge lines, in 5 m pieces so that faces stay small.
+void addRoad(SimScene& s, const Materials& mat, float L) {
+    const float seg = 5.0f;
     const int n_seg = static_cast<int>(std::ceil(L / seg));
     for (int i = 0; i < n_seg; ++i) {
         const float xa = i * seg, xb = std::min(L, (i + 1) * seg);
@@ -170,23 +163,27 @@ SceneSetup buildStreetScene(const StreetSceneOptions& options) {
         s.addQuad({xa, -kRoadHalfWidth, 0}, {xb, -kRoadHalfWidth, 0},
                   {xb, -kRoadHalfWidth, kKerbHeight}, {xa, -kRoadHalfWidth, kKerbHeight}, 1.0f,
                   mat.curb, kSidewalk);
-        // Solid edge lines.
         for (float yc : {-4.7f, 4.7f}) {
             addGroundQuad(s, xa, yc - 0.075f, xb, yc + 0.075f, kMarkingLift, 1.0f, mat.lane,
                           kLaneMarking);
         }
     }
-    // Dashed centre line: 3 m dash, 3 m gap.
+}
+
+// Dashed centre line (3 m dash, 3 m gap) and arrows on both lanes every 25 m.
+void addMarkings(SimScene& s, const Materials& mat, float L) {
     for (float x = 1.0f; x + 3.0f <= L; x += 6.0f) {
         addGroundQuad(s, x, -0.075f, x + 3.0f, 0.075f, kMarkingLift, 1.0f, mat.lane,
                       kLaneMarking);
     }
-    // Arrows on both lanes every 25 m.
     for (float x = 12.0f; x + 5.0f <= L; x += 25.0f) {
         addArrow(s, mat, x, kLaneY);
         addArrow(s, mat, x + 8.0f, -kLaneY);
     }
-    // Buildings on both sides with gaps between them.
+}
+
+// Buildings on both sides with gaps between them.
+void addBuildings(SimScene& s, const Materials& mat, float L, std::mt19937& rng) {
     std::uniform_real_distribution<float> len_dist(10.0f, 18.0f), gap_dist(1.5f, 4.0f),
         height_dist(7.0f, 13.0f), depth_dist(6.0f, 10.0f);
     for (float side : {1.0f, -1.0f}) {
@@ -200,7 +197,10 @@ SceneSetup buildStreetScene(const StreetSceneOptions& options) {
             x += len + gap_dist(rng);
         }
     }
-    // Poles with signs every 15 m, alternating sides; trees between them.
+}
+
+// Poles with signs every 15 m, alternating sides; a tree and a bush between them.
+void addPolesAndTrees(SimScene& s, const Materials& mat, float L, std::uint64_t seed) {
     int k = 0;
     for (float x = 6.0f; x < L - 2.0f; x += 15.0f, ++k) {
         const float side = (k % 2 == 0) ? -1.0f : 1.0f;
@@ -209,19 +209,19 @@ SceneSetup buildStreetScene(const StreetSceneOptions& options) {
         Isometry3d sign_pose = translation(x, y - side * 0.15, kKerbHeight + 3.6);
         s.addBox(sign_pose, Vec3f(0.35f, 0.03f, 0.35f), 0.7f, mat.sign, kSign);
         const float xt = x + 7.5f;
-        if (xt < L - 2.0f) {
-            const float yt = -side * (kRoadHalfWidth + 1.5f);
-            s.addCylinder(translation(xt, yt, kKerbHeight), 0.15f, 2.2f, 10, 1.0f, mat.bark,
-                          kVegetation);
-            s.addBlob(Vec3f(xt, yt, kKerbHeight + 3.2f), 1.3f, 0.25f,
-                      static_cast<std::uint32_t>(seed * 131 + k), 1.5f, mat.foliage, kVegetation);
-            // A low bush next to the tree.
-            s.addBlob(Vec3f(xt + 2.5f, yt + side * 0.5f, kKerbHeight + 0.45f), 0.55f, 0.3f,
-                      static_cast<std::uint32_t>(seed * 977 + k), 1.0f, mat.foliage,
+        if (xt >= L - 2.0f) continue;
+        const float yt = -side * (kRoadHalfWidth + 1.5f);
+        s.addCylinder(translation(xt, yt, kKerbHeight), 0.15f, 2.2f, 10, 1.0f, mat.bark,
                       kVegetation);
-        }
+        s.addBlob(Vec3f(xt, yt, kKerbHeight + 3.2f), 1.3f, 0.25f,
+                  static_cast<std::uint32_t>(seed * 131 + k), 1.5f, mat.foliage, kVegetation);
+        s.addBlob(Vec3f(xt + 2.5f, yt + side * 0.5f, kKerbHeight + 0.45f), 0.55f, 0.3f,
+                  static_cast<std::uint32_t>(seed * 977 + k), 1.0f, mat.foliage, kVegetation);
     }
-    // Parked cars in the parking strips next to the kerbs.
+}
+
+// Parked cars in the parking strips next to the kerbs.
+void addParkedCars(SimScene& s, const Materials& mat, float L, std::mt19937& rng) {
     std::uniform_real_distribution<float> car_gap(6.0f, 14.0f);
     int c = 0;
     for (float side : {1.0f, -1.0f}) {
@@ -230,24 +230,44 @@ SceneSetup buildStreetScene(const StreetSceneOptions& options) {
             x += 4.5f;
         }
     }
-    // Spot (Keenan Crane, public domain) on the right sidewalk: y-up OBJ, rotated to z-up.
-    if (!options.spot_dir.empty()) {
-        const auto obj = options.spot_dir / "spot_triangulated.obj";
-        const auto png = options.spot_dir / "spot_texture.png";
-        ObjMesh spot = readObj(obj);
-        std::vector<cv::Mat> spot_textures{readColorImage(png)};
-        spot.materials.assign(1, ObjMaterial{"spot", {1, 1, 1}, ""});
-        for (auto& t : spot.triangles) t.material = 0;
-        float min_y = 1e9f;
-        for (const auto& p : spot.positions) min_y = std::min(min_y, p.y());
-        Isometry3d pose = Isometry3d::Identity();
-        pose.linear() = (Eigen::AngleAxisd(M_PI / 2, Vec3d::UnitZ()) *
-                         Eigen::AngleAxisd(M_PI / 2, Vec3d::UnitX()))
-                            .toRotationMatrix();
-        pose.translation() = Vec3d(std::min(20.0, 0.4 * L), -(kRoadHalfWidth + 1.6),
-                                   kKerbHeight - min_y);
-        s.append(spot, spot_textures, pose, kOtherObject);
+}
+
+// Spot (Keenan Crane, public domain) on the right sidewalk: y-up OBJ, rotated to z-up.
+void addSpot(SimScene& s, const std::filesystem::path& spot_dir, float L) {
+    ObjMesh spot = readObj(spot_dir / "spot_triangulated.obj");
+    std::vector<cv::Mat> spot_textures{readColorImage(spot_dir / "spot_texture.png")};
+    spot.materials.assign(1, ObjMaterial{"spot", {1, 1, 1}, ""});
+    for (auto& t : spot.triangles) t.material = 0;
+    float min_y = 1e9f;
+    for (const auto& p : spot.positions) min_y = std::min(min_y, p.y());
+    Isometry3d pose = Isometry3d::Identity();
+    pose.linear() = (Eigen::AngleAxisd(M_PI / 2, Vec3d::UnitZ()) *
+                     Eigen::AngleAxisd(M_PI / 2, Vec3d::UnitX()))
+                        .toRotationMatrix();
+    pose.translation() =
+        Vec3d(std::min(20.0, 0.4 * L), -(kRoadHalfWidth + 1.6), kKerbHeight - min_y);
+    s.append(spot, spot_textures, pose, kOtherObject);
+}
+
+}  // namespace
+
+SceneSetup buildStreetScene(const StreetSceneOptions& options) {
+    if (!(options.length_m >= 20.0) || options.frames == 0) {
+        throw InvalidInput("street scene: length must be >= 20 m and frames > 0 (got " +
+                           std::to_string(options.length_m) + " m, " +
+                           std::to_string(options.frames) + " frames)");
     }
+    SceneSetup setup;
+    SimScene& s = setup.scene;
+    std::mt19937 rng(static_cast<std::uint32_t>(options.seed));
+    const Materials mat = addMaterials(s, options.seed);
+    const float L = static_cast<float>(options.length_m);
+    addRoad(s, mat, L);
+    addMarkings(s, mat, L);
+    addBuildings(s, mat, L, rng);
+    addPolesAndTrees(s, mat, L, options.seed);
+    addParkedCars(s, mat, L, rng);
+    if (!options.spot_dir.empty()) addSpot(s, options.spot_dir, L);
     // Trajectory: the right lane, from x = 3 m to L - 3 m at constant speed.
     const double x_start = 3.0, x_end = L - 3.0;
     for (std::size_t f = 0; f < options.frames; ++f) {
