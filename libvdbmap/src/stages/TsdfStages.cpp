@@ -40,17 +40,20 @@ public:
         spec.add("truncation_mode",
                  "adaptive (eps of paper Eq. 4 per 8^3 block; the band keeps b = grazing_band_voxels "
                  "across grazing surfaces: along the ray min(max(eps, b / |n.d|), L_max) in front of "
-                 "the point, min(max(eps, b), b / |n.d|) behind it), paper (Eq. 4, [-eps, eps] along "
-                 "the ray) or fixed (= truncation_max_m, along the ray)",
+                 "the point, min(max(eps, b), b / |n.d|) behind it; samples weighted by noise_ratio "
+                 "and falloff_voxels), paper (Eq. 4, [-eps, eps] along the ray, the paper's incidence "
+                 "weight) or fixed (= truncation_max_m along the ray, the adaptive mode's weights)",
                  truncation_mode_, std::string("adaptive"));
         spec.add("truncation_min_voxels",
-                 "eps_min in voxels, used when truncation_min_m is 0: 4 (paper: streets at 0.10 m "
-                 "-> 0.40 m; the SUV at 0.025 m -> 0.10 m)",
+                 "eps_min in voxels (used when truncation_min_m is 0): the truncation of densely "
+                 "sampled or non-flat blocks, i.e. the detail. 4 = the paper's streets (0.40 m at "
+                 "0.10 m voxels) and SUV (0.10 m at 0.025 m)",
                  min_vox_, 4.0, "voxels");
         spec.add("truncation_max_voxels",
-                 "eps_max in voxels, used when truncation_max_m is 0: 8 for streets (paper: 0.10 m "
-                 "voxels -> [0.40, 0.80] m, sparse LiDAR rings far from the car), 12 for a close "
-                 "object (the paper's SUV: 0.025 m voxels -> [0.10, 0.30] m)",
+                 "eps_max in voxels (used when truncation_max_m is 0): the truncation of sparse, "
+                 "flat blocks and the farthest reach of a grazing ray, i.e. what closes the gaps "
+                 "between LiDAR rings. 8 = the paper's streets (0.80 m at 0.10 m voxels); 12 = its "
+                 "SUV, a close object (0.30 m at 0.025 m)",
                  max_vox_, 8.0, "voxels");
         spec.add("truncation_min_m", "Lower bound eps_min of the truncation distance (0 = truncation_min_voxels)",
                  min_m_, 0.0, "m");
