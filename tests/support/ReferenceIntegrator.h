@@ -53,7 +53,8 @@ public:
         for (const auto& [key, pts] : scan) {
             Block& b = blocks_[key];
             b.stats = mergeStats(b.stats, batchStats(pts));
-            b.plane = estimatePlane(b.stats, sensor, c_.min_points_for_pca, 0.25 * vs_);
+            b.plane = estimatePlane(b.stats, sensor, c_.min_points_for_pca,
+                                    std::max(0.25 * vs_, 2.0 * c_.range_noise_m));
             b.eps = truncationFor(c_.truncation, b.plane, b.stats.n);
         }
         // 3. Every point updates the voxels its segment pierces.
@@ -89,7 +90,12 @@ private:
         const Vec3d dir = (p - sensor).normalized();
         const bool has_normal = block_normal.squaredNorm() > 0.0;
         const Vec3d n = has_normal ? block_normal : Vec3d(-dir);
-        const double w_inc = has_normal ? incidenceWeight(n, sensor, p, c_.weight_floor) : 1.0;
+        // Paper mode: the paper's incidence weight; adaptive and fixed: the noise weight of the
+        // sample's distance along the normal, times the falloff with the distance along the ray.
+        const bool paper = c_.truncation.mode == TruncationMode::Paper;
+        const double w_inc = paper ? (has_normal ? incidenceWeight(n, sensor, p, c_.weight_floor) : 1.0)
+                                   : noiseWeight(std::abs(n.dot(dir)), c_.noise_ratio);
+        const double inv_l2 = !paper && c_.falloff_m > 0.0 ? 1.0 / (c_.falloff_m * c_.falloff_m) : 0.0;
         // Without a normal (isolated degenerate block) the band is [-eps, eps] along the ray.
         const RayBand band = has_normal ? rayBandFor(c_.truncation, eps, std::abs(n.dot(dir)))
                                         : RayBand{eps, eps};
@@ -97,7 +103,9 @@ private:
                                 [&](const openvdb::Coord& v) {
             const Vec3d centre(v.x() * vs_, v.y() * vs_, v.z() * vs_);
             const double sdf = std::clamp(n.dot(centre - p), -eps, eps);
-            const double w = w_inc * behindSurfaceFactor(sdf, eps, vs_);
+            const double t = dir.dot(centre - p);
+            const double w = w_inc * distanceFalloff(t, inv_l2, c_.weight_floor) *
+                             behindSurfaceFactor(sdf, eps, vs_);
             if (!(w > 0.0)) return;
             Voxel& x = voxels_[v];
             x.sdf = (x.weight * x.sdf + w * sdf) / (x.weight + w);

@@ -17,32 +17,40 @@ using namespace vdbmap::test;
 namespace {
 
 constexpr double kVoxel = 0.1;
-constexpr double kDetail = 0.5;             // detail region: within 0.5 m of the box (dense)
+constexpr double kDetail = 0.5;  // detail region: within 0.5 m of the boxes (dense), above the ground
 constexpr double kFarMin = 8.0, kFarMax = 13.0;  // sparse region
 
 struct Quality {
     double completeness = 0.0;  ///< far ground samples with a mesh vertex within 1.5 voxels
-    double accuracy_m = 0.0;    ///< mean |closed-form sdf| of the vertices near the box (detail)
+    /// Mean |closed-form sdf| of the vertices near the boxes and 0.15 m above the ground (the
+    /// dense detail).
+    double accuracy_m = 0.0;
 };
 
-/// Mixed-density scene: ground plane seen from 2 m height (rings get sparse with range) and a
-/// box on the ground near the sensor (detail, dense).
+/// Mixed-density scene: ground plane seen from 2 m height (rings get sparse with range) and,
+/// near the sensor, a low box and a taller one 0.2 m behind it (dense, frontal detail: a band
+/// that reaches more than the gap behind the low box's top and front fills the gap).
 Quality run(TruncationMode mode, double eps_min, double eps_max) {
     SimScene scene;
     const double ground = -2.0;
     scene.add(SimPlane{Vec3d(0, 0, ground), Vec3d::UnitZ()});
-    const SimBox box{Vec3d(2.5, -0.4, ground - 0.5), Vec3d(3.1, 0.35, ground + 0.45)};
-    scene.add(box);
+    const SimBox low{Vec3d(2.5, -0.4, ground - 0.5), Vec3d(2.8, 0.35, ground + 0.45)};
+    const SimBox tall{Vec3d(3.0, -0.4, ground - 0.5), Vec3d(3.25, 0.35, ground + 0.9)};
+    scene.add(low);
+    scene.add(tall);
     SimScene box_only;
-    box_only.add(box);
+    box_only.add(low);
+    box_only.add(tall);
     SimLidarConfig lidar;
     lidar.azimuth_steps = 1024;
     lidar.noise_sigma_m = 0.01;
-    VoxelMap map(kVoxel, static_cast<float>(eps_max));
+    VoxelMap map(kVoxel, static_cast<float>(eps_max), 1000.0f);
     AtsdfConfig c;
     c.truncation.mode = mode;
     c.truncation.min_m = eps_min;
     c.truncation.max_m = eps_max;
+    c.range_noise_m = lidar.noise_sigma_m;  // the simulated sensor's
+    c.max_weight = 1000.0;
     AtsdfIntegrator integrator(map, c);
     integrateScans(integrator, scene, lidar,
                    {poseAt(Vec3d(0, 0, 0)), poseAt(Vec3d(-0.3, 0.05, 0)), poseAt(Vec3d(-0.6, 0.1, 0))});
@@ -60,7 +68,7 @@ Quality run(TruncationMode mode, double eps_min, double eps_max) {
         const auto p = mesh->point(v);
         const Vec3d x(p[0], p[1], p[2]);
         cells[cellKey(x.x(), x.y())].push_back(x);
-        if (std::abs(box_only.sdf(x)) < kDetail) {
+        if (std::abs(box_only.sdf(x)) < kDetail && x.z() > ground + 0.15) {
             err_sum += std::abs(scene.sdf(x));
             ++err_n;
         }
@@ -93,27 +101,11 @@ Quality run(TruncationMode mode, double eps_min, double eps_max) {
 
 }  // namespace
 
-TEST_CASE("Adaptive is as complete as the small eps and as accurate as the large eps",
-          "[tsdf][adaptive]") {
-    const Quality small = run(TruncationMode::Fixed, 0.1, 0.1);
-    const Quality large = run(TruncationMode::Fixed, 0.3, 0.3);
-    const Quality adaptive = run(TruncationMode::Adaptive, 0.1, 0.3);
-    INFO("completeness small " << small.completeness << " large " << large.completeness
-                               << " adaptive " << adaptive.completeness);
-    INFO("accuracy (m) small " << small.accuracy_m << " large " << large.accuracy_m
-                               << " adaptive " << adaptive.accuracy_m);
-    // The scene exercises both effects.
-    CHECK(large.completeness > small.completeness + 0.05);
-    // The claim of the paper (Sec. 4.2, 6.1).
-    CHECK(adaptive.completeness >= small.completeness);
-    CHECK(adaptive.accuracy_m <= large.accuracy_m);
-}
-
 TEST_CASE("Issue 16: the grazing plane gets the completeness of eps_max, the dense frontal "
           "detail the accuracy of eps_min",
           "[tsdf][adaptive]") {
-    // The ground is seen by sparse rings at grazing incidence 8-13 m away; the box's faces are
-    // frontal and densely sampled 2.5 m away.
+    // The ground is seen by sparse rings at grazing incidence 8-13 m away; the boxes' faces are
+    // frontal and densely sampled 2.5-3 m away.
     for (const auto& [lo, hi] : {std::pair<double, double>{0.1, 0.3}, {0.2, 0.4}}) {
         const Quality small = run(TruncationMode::Fixed, lo, lo);
         const Quality large = run(TruncationMode::Fixed, hi, hi);
@@ -124,14 +116,18 @@ TEST_CASE("Issue 16: the grazing plane gets the completeness of eps_max, the den
                  << adaptive.completeness);
         INFO("accuracy (m) small " << small.accuracy_m << " large " << large.accuracy_m << " paper "
                                    << paper.accuracy_m << " adaptive " << adaptive.accuracy_m);
+        // The scene tells the two apart: fixed eps_min leaves the far ground open, and the
+        // detail's accuracy depends on eps.
+        REQUIRE(large.completeness > small.completeness + 0.5);
+        REQUIRE(std::abs(large.accuracy_m - small.accuracy_m) > 0.001);
         // Completeness within 10 % of fixed eps_max's (or better), and above fixed eps_min's.
         CHECK(adaptive.completeness >= 0.9 * large.completeness);
         CHECK(adaptive.completeness > small.completeness);
-        // Accuracy: no worse than the paper's Eq. (4) (the same eps per block). NOT the issue's
-        // target (at most halfway from fixed eps_min's to eps_max's): on this box Eq. (4) keeps
-        // eps near eps_max, so both adaptive modes have fixed eps_max's accuracy (measured
-        // 1.03 mm against 0.72 mm for fixed eps_min; docs/results/geometry.md).
-        CHECK(adaptive.accuracy_m <= paper.accuracy_m * 1.01);
-        CHECK(adaptive.accuracy_m <= large.accuracy_m * 1.01);
+        // Accuracy at most halfway from fixed eps_min's to fixed eps_max's (measured: at
+        // [0.1, 0.3] that of eps_min, 3.7 mm against 6.3 mm for eps_max; at [0.2, 0.4], where
+        // eps_min = the gap is the worse one, 6.7 mm between 9.1 and 6.0 mm).
+        CHECK(adaptive.accuracy_m <= 0.5 * (small.accuracy_m + large.accuracy_m));
+        // And better than the paper's band along the ray with its incidence weight.
+        CHECK(adaptive.accuracy_m < paper.accuracy_m);
     }
 }

@@ -30,3 +30,30 @@ TEST_CASE("Weight drops off linearly behind the surface", "[tsdf][weight]") {
     CHECK(behindSurfaceFactor(-0.3, eps, vs) == Approx(0.0).margin(1e-12));
     CHECK(behindSurfaceFactor(-0.5, 0.05, vs) == 1.0);  // eps <= voxel: no drop-off
 }
+
+TEST_CASE("Noise weight: the inverse variance of the distance along the normal", "[tsdf][weight]") {
+    // var = sigma_0^2 (1 + q^2 c^2): frontal 1, edge-on 1 + q^2, in between the closed form.
+    const double q = 3.0;
+    CHECK(noiseWeight(1.0, q) == Approx(1.0));
+    CHECK(noiseWeight(0.0, q) == Approx(10.0));
+    CHECK(noiseWeight(0.5, q) == Approx(10.0 / 3.25));
+    // Two samples of the same surface at c = 1 and c = 0.2 with range noise sigma_r = q sigma_0:
+    // the weighted mean of their distances has the least variance with these weights.
+    const double c1 = 1.0, c2 = 0.2, s0 = 1.0, sr = q * s0;
+    const double v1 = s0 * s0 + c1 * c1 * sr * sr, v2 = s0 * s0 + c2 * c2 * sr * sr;
+    auto var = [&](double w1, double w2) { return (w1 * w1 * v1 + w2 * w2 * v2) / ((w1 + w2) * (w1 + w2)); };
+    const double best = var(noiseWeight(c1, q), noiseWeight(c2, q));
+    CHECK(best == Approx(1.0 / (1.0 / v1 + 1.0 / v2)));
+    CHECK(best < var(1.0, 1.0));
+    CHECK(best < var(c1, c2));  // the paper's incidence weight
+    CHECK(noiseWeight(0.3, 0.0) == 1.0);  // q = 0: uniform
+}
+
+TEST_CASE("Distance falloff along the ray", "[tsdf][weight]") {
+    const double l = 0.1, inv_l2 = 1.0 / (l * l);
+    CHECK(distanceFalloff(0.0, inv_l2, 0.1) == 1.0);
+    CHECK(distanceFalloff(0.1, inv_l2, 0.1) == Approx(0.5));
+    CHECK(distanceFalloff(-0.2, inv_l2, 0.1) == Approx(0.2));
+    CHECK(distanceFalloff(0.5, inv_l2, 0.1) == Approx(0.1));  // 1/26 < floor
+    CHECK(distanceFalloff(5.0, 0.0, 0.1) == 1.0);             // no falloff
+}

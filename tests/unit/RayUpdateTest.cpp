@@ -1,12 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
 // The integrator's fast per-point kernel (map/RayUpdate.h: float, incremental sdf, offsets and
 // leaf crossings) against the slow reference: the double-precision Amanatides-Woo walk
-// (map/RayTraversal.h) with sdf = n . (c - p) recomputed per voxel and the weight from
-// behindSurfaceFactor (vdbmap/map/MeasurementWeight.h).
+// (map/RayTraversal.h) with sdf = n . (c - p) and t = d . (c - p) recomputed per voxel and the
+// weight from distanceFalloff and behindSurfaceFactor (vdbmap/map/MeasurementWeight.h).
 #include <catch2/catch.hpp>
 #include <openvdb/openvdb.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 #include <vector>
 
@@ -46,12 +47,13 @@ struct RecordingSink {
 };
 
 std::vector<Update> reference(const Vec3d& p, const Vec3d& dir, const Vec3d& n, double w_inc,
-                              double eps, double vs) {
+                              double eps, double vs, double inv_l2, double floor) {
     std::vector<Update> out;
     detail::traverseSegment(p - dir * eps, dir, 2.0 * eps, 1.0 / vs, [&](const Coord& v) {
         const Vec3d centre(v.x() * vs, v.y() * vs, v.z() * vs);
         const double sdf = std::clamp(n.dot(centre - p), -eps, eps);
-        const double w = w_inc * behindSurfaceFactor(sdf, eps, vs);
+        const double w = w_inc * distanceFalloff(dir.dot(centre - p), inv_l2, floor) *
+                         behindSurfaceFactor(sdf, eps, vs);
         if (w > 0.0) out.push_back({v, static_cast<float>(sdf), static_cast<float>(w)});
     });
     return out;
@@ -77,16 +79,26 @@ TEST_CASE("Fast ray kernel equals the double-precision reference walk", "[tsdf][
         n.normalize();
         if (n.dot(dir) > 0.0) n = -n;  // oriented towards the sensor
         const double eps = eps_of(rng), w_inc = w_of(rng);
+        // Every other ray with the distance falloff (l in [0.05, 0.3] m, floor 0.1), the others
+        // without (the paper mode).
+        const double ell = i % 2 ? 0.05 + 0.25 * (0.5 + 0.5 * unit(rng)) : 0.0;
+        const float inv_l2 = ell > 0.0 ? static_cast<float>(1.0 / (ell * ell)) : 0.0f;
+        const float floor = ell > 0.0 ? 0.1f : 1.0f;
         // The integrator works on float points and directions.
         const Vec3f pf = p.cast<float>(), df = dir.cast<float>(), nf = n.cast<float>();
         const Vec3d pd = pf.cast<double>(), dd = df.cast<double>(), nd = nf.cast<double>();
         const float epsf = static_cast<float>(eps);
         const float inv_dropoff = epsf > vs ? 1.0f / (epsf - static_cast<float>(vs)) : 0.0f;
         RecordingSink sink;
+        detail::RayWeight weight;
+        weight.w_inc = static_cast<float>(w_inc);
+        weight.inv_dropoff = inv_dropoff;
+        weight.inv_falloff2 = inv_l2;
+        weight.falloff_floor = floor;
         detail::integrateRay(detail::RaySegment::of(pf, df, epsf, static_cast<float>(1.0 / vs)), pf, df,
-                             nf, static_cast<float>(w_inc), epsf, static_cast<float>(vs),
-                             inv_dropoff, sink);
-        const auto ref = reference(pd, dd, nd, w_inc, static_cast<double>(epsf), vs);
+                             nf, epsf, static_cast<float>(vs), weight, sink);
+        const auto ref = reference(pd, dd, nd, w_inc, static_cast<double>(epsf), vs,
+                                   static_cast<double>(inv_l2), static_cast<double>(floor));
         ++rays;
         REQUIRE(sink.bad_bookkeeping == 0);
         updates += sink.updates.size();
@@ -97,9 +109,10 @@ TEST_CASE("Fast ray kernel equals the double-precision reference walk", "[tsdf][
         ++same_walk;
         for (std::size_t k = 0; k < ref.size(); ++k) {
             max_sdf_err = std::max(max_sdf_err, static_cast<double>(std::abs(sink.updates[k].sdf - ref[k].sdf)));
-            // The weight follows the sdf through the drop-off slope w_inc / (eps - voxel).
+            // The weight follows the sdf through the drop-off slope w_inc / (eps - voxel) and t
+            // through the falloff's slope (at most 0.65 / l).
             const double w_err = std::abs(sink.updates[k].w - ref[k].w);
-            const double allowed = 1e-6 + 2e-5 * w_inc * inv_dropoff;
+            const double allowed = 1e-6 + 2e-5 * w_inc * (inv_dropoff + 0.65 * std::sqrt(inv_l2));
             max_w_excess = std::max(max_w_excess, w_err - allowed);
         }
     }
@@ -122,7 +135,9 @@ TEST_CASE("Fast ray kernel skips the voxels of missing leaves", "[tsdf][kernel]"
         void update(const int* ijk, unsigned, float, float) { xs.push_back(ijk[0]); }
     } sink;
     const Vec3f p(0.0f, 0.02f, 0.02f), dir(1.0f, 0.0f, 0.0f), n(-1.0f, 0.0f, 0.0f);
-    detail::integrateRay(detail::RaySegment::of(p, dir, 0.35f, 10.0f), p, dir, n, 1.0f, 0.35f, 0.1f,
-                         1.0f / 0.25f, sink);
+    detail::RayWeight weight;
+    weight.inv_dropoff = 1.0f / 0.25f;
+    detail::integrateRay(detail::RaySegment::of(p, dir, 0.35f, 10.0f), p, dir, n, 0.35f, 0.1f, weight,
+                         sink);
     CHECK(sink.xs == std::vector<int>{0, 1, 2, 3});
 }

@@ -80,7 +80,7 @@ TEST_CASE("Adaptive band: at least b across a grazing surface, widened only in f
     TruncationParams t;
     t.min_m = 0.4;
     t.max_m = 0.8;
-    t.grazing_band_m = 0.2;  // 2 voxels of 0.1 m; L_max = 2 eps_max = 1.6 m
+    t.grazing_band_m = 0.2;  // 2 voxels of 0.1 m; L_max = eps_max = 0.8 m
     // Frontal (c = 1): the paper's eps in front, b behind.
     RayBand r = rayBandFor(t, 0.5, 1.0);
     CHECK(r.front_m == Approx(0.5));
@@ -93,13 +93,13 @@ TEST_CASE("Adaptive band: at least b across a grazing surface, widened only in f
     CHECK(r.front_m == Approx(0.5));
     CHECK(r.back_m == Approx(0.4));
     // Grazing (c = 0.1): the ray band would span 0.05 m across the surface; the adaptive band
-    // spans b = 0.2 m in front (2 m along the ray, capped at L_max = 1.6 m) and eps behind.
+    // spans b = 0.2 m in front (2 m along the ray, capped at L_max = 0.8 m) and eps behind.
     r = rayBandFor(t, 0.5, 0.1);
-    CHECK(r.front_m == Approx(1.6));
+    CHECK(r.front_m == Approx(0.8));
     CHECK(r.back_m == Approx(0.5));
     CHECK(r.front_m * 0.1 > 0.5 * 0.1);
     // Parallel to the surface: the cap.
-    CHECK(rayBandFor(t, 0.5, 0.0).front_m == Approx(1.6));
+    CHECK(rayBandFor(t, 0.5, 0.0).front_m == Approx(0.8));
     t.max_along_ray_m = 1.0;
     CHECK(rayBandFor(t, 0.5, 0.1).front_m == Approx(1.0));
     CHECK(maxHalfLength(t) == Approx(1.0));

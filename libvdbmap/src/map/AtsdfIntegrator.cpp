@@ -63,6 +63,12 @@ struct LocalBlock {
 
 using detail::LeafNeighbourhood;
 
+/// estimatePlane's min_spread_m: a patch narrower than a quarter voxel, or than twice the range
+/// noise (one ring's points: a ribbon along the rays), is not trusted for a normal.
+double minPlaneSpread(const AtsdfConfig& config, double voxel_m) {
+    return std::max(0.25 * voxel_m, 2.0 * config.range_noise_m);
+}
+
 }  // namespace
 
 /// Per-scan buffers of integrateScan, kept between scans.
@@ -116,6 +122,11 @@ void validateAtsdfConfig(const AtsdfConfig& c, const std::string& who) {
         bad("weight_floor", c.weight_floor, "in (0, 1]");
     if (!(c.max_weight > 0.0) || !std::isfinite(c.max_weight))
         bad("max_weight", c.max_weight, "finite and > 0");
+    if (!(c.range_noise_m >= 0.0) || !std::isfinite(c.range_noise_m))
+        bad("range_noise_m", c.range_noise_m, "finite and >= 0");
+    if (!(c.noise_ratio >= 0.0) || !std::isfinite(c.noise_ratio))
+        bad("noise_ratio", c.noise_ratio, "finite and >= 0");
+    if (!(c.falloff_m >= 0.0) || !std::isfinite(c.falloff_m)) bad("falloff_m", c.falloff_m, "finite and >= 0");
     if (!(c.min_range_m >= 0.0)) bad("min_range_m", c.min_range_m, ">= 0");
     if (!(c.max_range_m > c.min_range_m)) bad("max_range_m", c.max_range_m, "> min_range_m");
     if (c.working_set_scans < 1) bad("working_set_scans", c.working_set_scans, ">= 1");
@@ -174,7 +185,8 @@ public:
           // Update reach in voxels: the longest half-length along a ray, one voxel of rounding
           // at each end, one voxel of margin.
           hood_(static_cast<int>(std::ceil(maxHalfLength(config.truncation) / map.voxelSize())) + 2),
-          stamp_(stamp) {}
+          stamp_(stamp),
+          min_spread_m_(minPlaneSpread(config, map.voxelSize())) {}
 
     /// Phase 1: classify the points (drops counted in `st`) and bin the valid ones by 8^3
     /// block in scan order. False if no point is left.
@@ -216,6 +228,7 @@ private:
     const float inv_vs_f_;
     const LeafNeighbourhood hood_;
     const std::uint32_t stamp_;
+    const double min_spread_m_;
 };
 
 void AtsdfIntegrator::ScanPass::classifyChunks(std::size_t n_chunks) {
@@ -358,9 +371,8 @@ void AtsdfIntegrator::ScanPass::mergeStatistics() {
             const BlockStats batch =
                 batchStatsIndexed(points_W_.data(), s_.order.data() + lb.begin, lb.end - lb.begin);
             entry.stats = mergeStats(entry.stats, batch);  // paper Eq. (1)
-            // A patch narrower than a quarter voxel (std. dev.) is not trusted for a normal.
             const PlaneEstimate plane =
-                estimatePlane(entry.stats, origin_W_, config_.min_points_for_pca, 0.25 * vs_);
+                estimatePlane(entry.stats, origin_W_, config_.min_points_for_pca, min_spread_m_);
             entry.plane_valid = plane.valid;
             entry.normal_W = plane.normal.cast<float>();
             entry.flatness = static_cast<float>(plane.flatness);
@@ -508,14 +520,21 @@ std::size_t AtsdfIntegrator::ScanPass::integrateCell(std::size_t cell_index,
                                                      detail::TsdfLeafCache::Accessor& acc) const {
     // The voxel updates of one cell go straight into the packed leaves of each block's
     // neighbourhood (`table`, one per task). Returns the number of updates.
+    const bool paper_weight = trunc_.mode == TruncationMode::Paper;
     const float floor_w = static_cast<float>(config_.weight_floor);
+    const float q = static_cast<float>(config_.noise_ratio);
     const float vs_f = static_cast<float>(vs_);
+    detail::RayWeight weight;
+    if (!paper_weight && config_.falloff_m > 0.0) {
+        weight.inv_falloff2 = static_cast<float>(1.0 / (config_.falloff_m * config_.falloff_m));
+        weight.falloff_floor = floor_w;
+    }
     const std::size_t updates_before = table.updates();
     for (std::uint32_t i = s_.cell_begin[cell_index]; i < s_.cell_begin[cell_index + 1]; ++i) {
         const std::uint32_t b = s_.by_cell[i];
         const LocalBlock& lb = s_.local[b];
         const float eps = blocks_.entry(lb.slot).truncation_m;
-        const float inv_dropoff = eps > vs_f ? 1.0f / (eps - vs_f) : 0.0f;
+        weight.inv_dropoff = eps > vs_f ? 1.0f / (eps - vs_f) : 0.0f;
         // No normal (isolated degenerate block): the ray direction (sdf along the ray).
         const bool has_normal = lb.normal.squaredNorm() > 0.0;
         const Vec3f block_normal = lb.normal.cast<float>();
@@ -524,8 +543,12 @@ std::size_t AtsdfIntegrator::ScanPass::integrateCell(std::size_t cell_index,
             const Vec3f& p = points_W_[s_.order[k]];
             const Vec3f& dir = s_.dir[k];
             const Vec3f normal = has_normal ? block_normal : Vec3f(-dir);
-            const float w_inc = has_normal ? incidenceWeightAlongRay(normal, dir, floor_w) : 1.0f;
-            detail::integrateRay(s_.segment[k], p, dir, normal, w_inc, eps, vs_f, inv_dropoff, table);
+            if (paper_weight) {
+                weight.w_inc = has_normal ? incidenceWeightAlongRay(normal, dir, floor_w) : 1.0f;
+            } else {
+                weight.w_inc = noiseWeight(std::abs(normal.dot(dir)), q);
+            }
+            detail::integrateRay(s_.segment[k], p, dir, normal, eps, vs_f, weight, table);
         }
     }
     return table.updates() - updates_before;
@@ -667,6 +690,9 @@ void AtsdfIntegrator::finalize() {
     meta.insertMeta("flatness_k", openvdb::DoubleMetadata(config_.truncation.flatness_k));
     meta.insertMeta("reference_points", openvdb::DoubleMetadata(config_.truncation.reference_points));
     meta.insertMeta("weight_floor", openvdb::DoubleMetadata(config_.weight_floor));
+    meta.insertMeta("range_noise_m", openvdb::DoubleMetadata(config_.range_noise_m));
+    meta.insertMeta("noise_ratio", openvdb::DoubleMetadata(config_.noise_ratio));
+    meta.insertMeta("falloff_m", openvdb::DoubleMetadata(config_.falloff_m));
     meta.insertMeta("max_weight", openvdb::DoubleMetadata(config_.max_weight));
     meta.insertMeta("space_carving", openvdb::BoolMetadata(config_.space_carving));
     meta.insertMeta("scans_integrated", openvdb::Int64Metadata(static_cast<std::int64_t>(totals_.scans)));

@@ -52,19 +52,29 @@ struct RaySegment {
     }
 };
 
+/// The weight of one point's voxel updates:
+///   w = w_inc * distanceFalloff(t) * behindSurfaceFactor(sdf)   (vdbmap/map/MeasurementWeight.h)
+/// with t the voxel's distance along the ray from the point.
+struct RayWeight {
+    float w_inc = 1.0f;          ///< per point: noiseWeight (adaptive, fixed) or the incidence weight (paper)
+    float inv_dropoff = 0.0f;    ///< 1 / (eps - voxel), 0 when eps <= voxel (no drop-off)
+    float inv_falloff2 = 0.0f;   ///< 1 / l^2 of distanceFalloff, 0 = none (paper mode)
+    float falloff_floor = 1.0f;  ///< distanceFalloff's floor
+};
+
 /// The voxel updates of one measurement point (paper Sec. 4.2). Every voxel v pierced by the
 /// segment (Amanatides-Woo order along the ray) gets
 ///   sdf = n . (c_v - p), clamped to [-eps, eps]    (c_v: voxel centre, n: block normal)
-///   w   = w_inc * f(sdf),  f = 1 for sdf >= -voxel, then linear to 0 at -eps
-/// (behindSurfaceFactor, vdbmap/map/MeasurementWeight.h). `inv_dropoff` = 1 / (eps - voxel),
-/// or 0 when eps <= voxel (no drop-off). The sink is told the 8^3 leaf the walk is in, `enterLeaf(origin)` (false: no
-/// such leaf, its voxels are skipped), and gets `update(ijk, offset_in_leaf, sdf_m, w)` for
-/// every voxel with w > 0. The sdf, the offset in the leaf and the leaf crossings are carried
-/// incrementally along the walk: float arithmetic, no division in the voxel loop.
+///   w   = RayWeight: w_inc * distanceFalloff(t) * f(sdf), f = 1 for sdf >= -voxel, then
+///         linear to 0 at -eps (behindSurfaceFactor), t = (c_v - p) . dir
+/// The sink is told the 8^3 leaf the walk is in, `enterLeaf(origin)` (false: no such leaf, its
+/// voxels are skipped), and gets `update(ijk, offset_in_leaf, sdf_m, w)` for every voxel with
+/// w > 0. The sdf, t, the offset in the leaf and the leaf crossings are carried incrementally
+/// along the walk: float arithmetic, one division per voxel (the falloff).
 template <typename Sink>
 inline void integrateRay(const RaySegment& seg, const Vec3f& p_W, const Vec3f& dir_W,
-                         const Vec3f& normal_W, float w_inc, float eps_m, float voxel_m,
-                         float inv_dropoff, Sink& sink) {
+                         const Vec3f& normal_W, float eps_m, float voxel_m, const RayWeight& weight,
+                         Sink& sink) {
     constexpr float kInf = std::numeric_limits<float>::infinity();
     constexpr int kStride[3] = {64, 8, 1};  // LeafNode<.., 3>::coordToOffset
     int ijk[3];
@@ -73,6 +83,7 @@ inline void integrateRay(const RaySegment& seg, const Vec3f& p_W, const Vec3f& d
     float t_max[3];
     float t_delta[3];
     float d_sdf[3];
+    float d_t[3];
     for (int k = 0; k < 3; ++k) {
         const float a = seg.start_idx[k];
         const int fl = floorToInt(a);
@@ -92,11 +103,15 @@ inline void integrateRay(const RaySegment& seg, const Vec3f& p_W, const Vec3f& d
             t_max[k] = kInf;
         }
         d_sdf[k] = static_cast<float>(step[k]) * normal_W[k] * voxel_m;
+        d_t[k] = static_cast<float>(step[k]) * dir_W[k] * voxel_m;
         d_offset[k] = step[k] * kStride[k];
     }
     float sdf = normal_W.x() * (static_cast<float>(ijk[0]) * voxel_m - p_W.x()) +
                 normal_W.y() * (static_cast<float>(ijk[1]) * voxel_m - p_W.y()) +
                 normal_W.z() * (static_cast<float>(ijk[2]) * voxel_m - p_W.z());
+    float t = dir_W.x() * (static_cast<float>(ijk[0]) * voxel_m - p_W.x()) +
+              dir_W.y() * (static_cast<float>(ijk[1]) * voxel_m - p_W.y()) +
+              dir_W.z() * (static_cast<float>(ijk[2]) * voxel_m - p_W.z());
     auto offsetOf = [&]() {
         return static_cast<unsigned>(((ijk[0] & 7) << 6) | ((ijk[1] & 7) << 3) | (ijk[2] & 7));
     };
@@ -107,7 +122,9 @@ inline void integrateRay(const RaySegment& seg, const Vec3f& p_W, const Vec3f& d
     const int max_steps = static_cast<int>(seg.length_idx * 1.7320508f + 4.0f);
     for (int s = 0; s < max_steps; ++s) {
         const float d = sdf > eps_m ? eps_m : (sdf < -eps_m ? -eps_m : sdf);
-        const float w = w_inc * behindSurfaceFactor(d, eps_m, voxel_m, inv_dropoff);
+        const float w = weight.w_inc *
+                        distanceFalloff(t, weight.inv_falloff2, weight.falloff_floor) *
+                        behindSurfaceFactor(d, eps_m, voxel_m, weight.inv_dropoff);
         if (in_leaf && w > 0.0f) sink.update(ijk, offset, d, w);
         const int axis = t_max[0] < t_max[1] ? (t_max[0] < t_max[2] ? 0 : 2)
                                              : (t_max[1] < t_max[2] ? 1 : 2);
@@ -115,6 +132,7 @@ inline void integrateRay(const RaySegment& seg, const Vec3f& p_W, const Vec3f& d
         ijk[axis] += step[axis];
         t_max[axis] += t_delta[axis];
         sdf += d_sdf[axis];
+        t += d_t[axis];
         // Stepping forward into local coordinate 0, or backward into 7, enters a new leaf.
         const int local = ijk[axis] & 7;
         if (local == (step[axis] > 0 ? 0 : 7)) {

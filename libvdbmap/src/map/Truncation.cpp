@@ -39,7 +39,7 @@ void validateTruncation(const TruncationParams& p, const std::string& who) {
         bad("reference_points", p.reference_points, "> 0");
     if (!std::isfinite(p.max_along_ray_m) || p.max_along_ray_m < 0.0 ||
         (p.max_along_ray_m > 0.0 && p.max_along_ray_m < p.max_m))
-        bad("truncation_max_along_ray_m", p.max_along_ray_m, "0 (= 2 truncation_max_m) or >= truncation_max_m");
+        bad("truncation_max_along_ray_m", p.max_along_ray_m, "0 (= truncation_max_m) or >= truncation_max_m");
     if (!std::isfinite(p.grazing_band_m) || p.grazing_band_m < 0.0)
         bad("grazing_band_voxels", p.grazing_band_m, ">= 0");
 }
@@ -61,7 +61,7 @@ double truncationFor(const TruncationParams& p, const PlaneEstimate& plane, doub
 }
 
 double maxAlongRay(const TruncationParams& p) {
-    return p.max_along_ray_m > 0.0 ? p.max_along_ray_m : 2.0 * p.max_m;
+    return p.max_along_ray_m > 0.0 ? p.max_along_ray_m : p.max_m;
 }
 
 RayBand rayBandFor(const TruncationParams& p, double eps_m, double cos_incidence) {

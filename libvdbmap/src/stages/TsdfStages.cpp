@@ -40,17 +40,20 @@ public:
         spec.add("truncation_mode",
                  "adaptive (eps of paper Eq. 4 per 8^3 block; the band keeps b = grazing_band_voxels "
                  "across grazing surfaces: along the ray min(max(eps, b / |n.d|), L_max) in front of "
-                 "the point, min(max(eps, b), b / |n.d|) behind it), paper (Eq. 4, [-eps, eps] along "
-                 "the ray) or fixed (= truncation_max_m, along the ray)",
+                 "the point, min(max(eps, b), b / |n.d|) behind it; samples weighted by noise_ratio "
+                 "and falloff_voxels), paper (Eq. 4, [-eps, eps] along the ray, the paper's incidence "
+                 "weight) or fixed (= truncation_max_m along the ray, the adaptive mode's weights)",
                  truncation_mode_, std::string("adaptive"));
         spec.add("truncation_min_voxels",
-                 "eps_min in voxels, used when truncation_min_m is 0: 4 (paper: streets at 0.10 m "
-                 "-> 0.40 m; the SUV at 0.025 m -> 0.10 m)",
+                 "eps_min in voxels (used when truncation_min_m is 0): the truncation of densely "
+                 "sampled or non-flat blocks, i.e. the detail. 4 = the paper's streets (0.40 m at "
+                 "0.10 m voxels) and SUV (0.10 m at 0.025 m)",
                  min_vox_, 4.0, "voxels");
         spec.add("truncation_max_voxels",
-                 "eps_max in voxels, used when truncation_max_m is 0: 8 for streets (paper: 0.10 m "
-                 "voxels -> [0.40, 0.80] m, sparse LiDAR rings far from the car), 12 for a close "
-                 "object (the paper's SUV: 0.025 m voxels -> [0.10, 0.30] m)",
+                 "eps_max in voxels (used when truncation_max_m is 0): the truncation of sparse, "
+                 "flat blocks and the farthest reach of a grazing ray, i.e. what closes the gaps "
+                 "between LiDAR rings. 8 = the paper's streets (0.80 m at 0.10 m voxels); 12 = its "
+                 "SUV, a close object (0.30 m at 0.025 m)",
                  max_vox_, 8.0, "voxels");
         spec.add("truncation_min_m", "Lower bound eps_min of the truncation distance (0 = truncation_min_voxels)",
                  min_m_, 0.0, "m");
@@ -60,7 +63,7 @@ public:
                  max_m_, 0.0, "m");
         spec.add("truncation_max_along_ray_m",
                  "Adaptive mode: L_max, the cap of an update's half-length along a grazing ray (0 = "
-                 "2 eps_max)",
+                 "eps_max)",
                  max_along_ray_m_, 0.0, "m");
         spec.add("grazing_band_voxels",
                  "Adaptive mode: b, the least half-width of the band across a surface (along its "
@@ -76,8 +79,26 @@ public:
                  n_ref_, 0.0);
         spec.add("min_points_for_pca", "Blocks with fewer points are degenerate (eps_max, ray normal)",
                  min_points_, 5);
-        spec.add("weight_floor", "Lower bound of the incidence-angle weight, in (0, 1]", weight_floor_, 0.1);
-        spec.add("max_weight", "Cap of the accumulated weight per voxel", max_weight_, 100.0);
+        spec.add("weight_floor",
+                 "Lower bound, in (0, 1], of the paper's incidence weight (paper mode) and of the "
+                 "distance falloff (adaptive, fixed)",
+                 weight_floor_, 0.1);
+        spec.add("max_weight",
+                 "Cap of the accumulated weight per voxel (a frontal sample weighs 1, a grazing one "
+                 "up to 1 + noise_ratio^2)",
+                 max_weight_, 1000.0);
+        spec.add("range_noise_m",
+                 "1-sigma range noise of the sensor: a block whose points spread less than twice "
+                 "this across their main direction (one ring: a ribbon along the rays) gets no normal",
+                 range_noise_m_, 0.02, "m");
+        spec.add("noise_ratio",
+                 "Adaptive, fixed: q = range noise / noise floor of a sample's distance along the "
+                 "normal; a sample at incidence cosine c weighs (1 + q^2) / (1 + q^2 c^2) (0 = 1)",
+                 noise_ratio_, 3.0);
+        spec.add("falloff_voxels",
+                 "Adaptive, fixed: l in voxels; a sample counts 1 / (1 + (t / l)^2) (at least "
+                 "weight_floor) at a voxel t along the ray from its point (0 = no falloff)",
+                 falloff_vox_, 1.0, "voxels");
         spec.add("space_carving",
                  "Push already allocated voxels in front of the band towards free space (+eps_max)",
                  space_carving_, false);
@@ -130,6 +151,14 @@ public:
             n_ref_ > 0.0 ? n_ref_ : referencePointsForDensity(density_ref_, voxel_size_m_);
         config_.min_points_for_pca = min_points_;
         config_.weight_floor = weight_floor_;
+        config_.range_noise_m = range_noise_m_;
+        config_.noise_ratio = noise_ratio_;
+        if (!(falloff_vox_ >= 0.0) || !std::isfinite(falloff_vox_)) {
+            std::ostringstream os;
+            os << "option 'falloff_voxels' must be finite and >= 0, got " << falloff_vox_;
+            failConfig(os.str());
+        }
+        config_.falloff_m = falloff_vox_ * voxel_size_m_;
         config_.max_weight = max_weight_;
         config_.space_carving = space_carving_;
         config_.working_set_scans = working_set_scans_;
@@ -203,7 +232,8 @@ private:
     double min_m_ = 0.0, max_m_ = 0.0, max_along_ray_m_ = 0.0, grazing_band_vox_ = 2.0;
     double k_ = 1.0, density_ref_ = 156.25, n_ref_ = 0.0;
     int min_points_ = 5;
-    double weight_floor_ = 0.1, max_weight_ = 100.0;
+    double weight_floor_ = 0.1, max_weight_ = 1000.0;
+    double range_noise_m_ = 0.02, noise_ratio_ = 3.0, falloff_vox_ = 1.0;
     bool space_carving_ = false;
     int working_set_scans_ = 4;
     AtsdfConfig config_;

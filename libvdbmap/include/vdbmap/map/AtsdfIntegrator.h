@@ -18,8 +18,20 @@ class VoxelMap;
 struct AtsdfConfig {
     TruncationParams truncation;
     int min_points_for_pca = 5;     ///< blocks with fewer points are degenerate
-    double weight_floor = 0.1;      ///< lower bound of the incidence weight, (0, 1]
+    /// Lower bound, in (0, 1], of the paper's incidence weight (paper mode) and of the distance
+    /// falloff (adaptive and fixed modes).
+    double weight_floor = 0.1;
     double max_weight = 100.0;      ///< cap of the accumulated weight per voxel
+    /// sigma_r, the sensor's 1-sigma range noise (m). A block whose points spread less than
+    /// 2 sigma_r across their main direction is degenerate: one ring's points with range noise
+    /// form a ribbon spanned by the ring and the rays themselves, whose "normal" is
+    /// perpendicular to the rays (estimatePlane's min_spread_m = max(0.25 voxel, 2 sigma_r)).
+    double range_noise_m = 0.02;
+    /// q = sigma_r / sigma_0 of noiseWeight (adaptive and fixed modes; vdbmap/map/
+    /// MeasurementWeight.h): a grazing sample counts up to 1 + q^2 times a frontal one.
+    double noise_ratio = 3.0;
+    /// l of distanceFalloff (adaptive and fixed modes), metres; 0 = no falloff.
+    double falloff_m = 0.1;
     /// Space carving: along the ray from the sensor to (point - eps), voxels that are already
     /// allocated are updated with sdf = +eps_max (free space). Never allocates free space.
     bool space_carving = false;
@@ -78,7 +90,9 @@ struct IntegrationStats {
 ///     up to L_max, behind max(eps, b) but at most b across the surface);
 ///  3. allocate the leaves the segments cross; integrate: every voxel v the segment pierces
 ///     (DDA) gets sdf = n . (v - p) (the distance to the block's plane), clamped to
-///     [-eps, eps], with weight w = incidenceWeight * behindSurfaceFactor, and the running
+///     [-eps, eps], with weight w = noiseWeight(|n . d|) * distanceFalloff(t) *
+///     behindSurfaceFactor (adaptive, fixed; t: the voxel's distance along the ray from p) or
+///     the paper's incidenceWeight * behindSurfaceFactor (paper mode), and the running
 ///     average D' = (W D + w d) / (W + w), W' = min(W + w, max_weight); carve (optional);
 ///  4. retire: the leaves no scan of the last `working_set_scans` could update move to the
 ///     map's compact store (VoxelMap).

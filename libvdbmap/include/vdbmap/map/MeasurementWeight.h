@@ -28,6 +28,28 @@ inline double incidenceWeight(const Vec3d& normal_W, const Vec3d& sensor_W, cons
     return incidenceWeightAlongRay(normal_W, Vec3d(ray / range), floor);
 }
 
+/// Noise weight of a sample's distance along the normal (adaptive and fixed modes). The range
+/// noise sigma_r acts along the ray, so it reaches n . (v - p) scaled by the incidence cosine
+/// c = |n . d|, on top of a floor sigma_0 (normal, pose and voxel errors):
+///   var = sigma_0^2 (1 + q^2 c^2),  q = sigma_r / sigma_0.
+/// Its inverse relative to a frontal sample, (1 + q^2) / (1 + q^2 c^2), lies in [1, 1 + q^2]:
+/// a grazing sample's distance across the surface is the more precise one. (The paper's
+/// w = n . (p_s - p_i) ranks them the other way round, for the range itself.) q = 0 gives 1.
+template <typename Scalar>
+inline Scalar noiseWeight(Scalar cos_incidence, Scalar q) {
+    const Scalar q2 = q * q;
+    return (Scalar(1) + q2) / (Scalar(1) + q2 * cos_incidence * cos_incidence);
+}
+
+/// Trust in a sample at a voxel t metres along the ray from its point (adaptive and fixed
+/// modes): the plane through the point is extrapolated over |t|, so the sample counts
+/// 1 / (1 + (t / l)^2), at least `floor` (a lone distant sample still completes the surface
+/// where nothing nearer was measured). inv_l2 = 1 / l^2; 0 = no falloff (1).
+template <typename Scalar>
+inline Scalar distanceFalloff(Scalar t_m, Scalar inv_l2, Scalar floor) {
+    return std::max(floor, Scalar(1) / (Scalar(1) + t_m * t_m * inv_l2));
+}
+
 /// Drop-off behind the surface (voxblox style): 1 for sdf >= -voxel_size_m, then linear down
 /// to 0 at sdf = -truncation_m, with inv_dropoff = 1 / (truncation_m - voxel_size_m)
 /// precomputed (0: no drop-off), the form the voxel loop uses.

@@ -36,7 +36,8 @@ struct TruncationParams {
     /// surface density (referencePointsForDensity) so that eps adapts alike at every voxel size.
     double reference_points = 100.0;
     /// Adaptive mode: L_max, the cap of the update's half-length along a grazing ray (m);
-    /// 0 = 2 * max_m. Bounds the work per point and how far a plane is extrapolated.
+    /// 0 = max_m: the adaptive band then never reaches further along a ray than fixed eps_max's.
+    /// Bounds the work per point and how far a plane is extrapolated.
     double max_along_ray_m = 0.0;
     /// Adaptive mode: b, the least half-width of the band across a surface (along its normal),
     /// in metres (the stage gives it in voxels: grazing_band_voxels * voxel).
@@ -60,7 +61,9 @@ void validateTruncation(const TruncationParams& params, const std::string& who);
 /// Adaptive and Paper modes share this eps; they differ in the direction it is measured in.
 double truncationFor(const TruncationParams& params, const PlaneEstimate& plane, double n);
 
-/// L_max of the adaptive mode (max_along_ray_m, or 2 * max_m when 0).
+/// L_max of the adaptive mode: max_along_ray_m, or eps_max when 0 (the measured trade-off of a
+/// longer reach is in docs/results/geometry.md: on the simulated street it closes more of the
+/// grazing road, on a real scan it extrapolates the road's planes less accurately).
 double maxAlongRay(const TruncationParams& params);
 
 /// The extent of a point's update segment along its ray: t in [-front_m, back_m] around the
