@@ -15,6 +15,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "vdbmap/sim/SimSequence.h"
@@ -28,6 +29,8 @@ inline const std::filesystem::path kSimExe =
 
 struct ChildOptions {
     std::optional<rlim_t> file_size_limit;  ///< RLIMIT_FSIZE in bytes, SIGXFSZ ignored
+    /// Environment variables set in the child only ("NAME", "value").
+    std::vector<std::pair<std::string, std::string>> env;
 };
 
 /// A running child; stderr and stdout go to one pipe.
@@ -50,6 +53,7 @@ public:
                 ::setrlimit(RLIMIT_FSIZE, &limit);
             }
             ::setenv("CI", "true", 1);  // no progress bars
+            for (const auto& [name, value] : options.env) ::setenv(name.c_str(), value.c_str(), 1);
             std::vector<char*> argv;
             std::string exe_text = exe.string();
             argv.push_back(exe_text.data());

@@ -10,6 +10,8 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <openvdb/io/File.h>
+#include <openvdb/openvdb.h>
 #include <set>
 
 #include "vdbmap/Error.h"
@@ -52,8 +54,9 @@ std::string plugin(const char* name) {
         .string();
 }
 
-std::string streetYaml(const std::string& extra_semantic, const std::string& tiling) {
-    return "dataset: {format: kitti, path: seq, min_range_m: 1.0}\n"
+std::string streetYaml(const std::string& extra_semantic, const std::string& tiling,
+                       const std::string& dataset_extra = "") {
+    return "dataset: {format: kitti, path: seq, min_range_m: 1.0" + dataset_extra + "}\n"
            "plugins: [\"" + plugin("texture") + "\", \"" + plugin("semantic") + "\"]\n"
            "stages:\n"
            "  - stage: integrate.atsdf\n"
@@ -66,7 +69,7 @@ std::string streetYaml(const std::string& extra_semantic, const std::string& til
 }
 
 /// A simulated street in its own folder per test case (ctest runs test cases in parallel).
-fs::path streetRoot(const std::string& test) {
+fs::path streetRoot(const std::string& test, std::size_t frames = 6, double size_m = 36.0) {
     static std::map<std::string, fs::path> roots;
     if (roots.count(test)) return roots[test];
     const fs::path root = [&] {
@@ -74,8 +77,8 @@ fs::path streetRoot(const std::string& test) {
         const fs::path r = fs::path(VDBMAP_BINARY_DIR) / "test_scratch" / ("tiled_pipeline_" + test);
         fs::remove_all(r);
         SimOptions sim;
-        sim.frames = 6;
-        sim.size_m = 36.0;
+        sim.frames = frames;
+        sim.size_m = size_m;
         sim.gt_views = 0;
         sim.quiet = true;
         writeSimSequence(sim, r / "seq");
@@ -194,6 +197,101 @@ TEST_CASE("A tiled run gives the untiled mesh and labels, tile by tile", "[tiles
     CHECK(static_cast<double>(same) / static_cast<double>(compared) >= min_agreement);
     CHECK(tiled_report.getJson({"tiling", "tiles"}) == std::to_string(tiles.size()));
     CHECK(tiled_report.getJson({"status", "state"}) == "\"done\"");
+}
+
+/// Every regular file below `dir`, relative to it, with its bytes.
+std::map<std::string, std::string> filesBelow(const fs::path& dir) {
+    std::map<std::string, std::string> files;
+    for (const auto& entry : fs::recursive_directory_iterator(dir)) {
+        if (!entry.is_regular_file()) continue;
+        std::ifstream in(entry.path(), std::ios::binary);
+        files[fs::relative(entry.path(), dir).generic_string()] =
+            std::string(std::istreambuf_iterator<char>(in), {});
+    }
+    return files;
+}
+
+/// The voxels of every float grid of a .vdb file, by grid name.
+std::map<std::string, std::map<std::array<int, 3>, float>> vdbVoxels(const fs::path& file) {
+    openvdb::initialize();
+    openvdb::io::File f(file.string());
+    f.open();
+    std::map<std::string, std::map<std::array<int, 3>, float>> out;
+    const openvdb::GridPtrVecPtr grids = f.getGrids();  // kept alive while iterating
+    for (const openvdb::GridBase::Ptr& base : *grids) {
+        const auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
+        REQUIRE(grid);
+        auto& voxels = out[grid->getName()];
+        for (auto it = grid->cbeginValueOn(); it; ++it) {
+            const openvdb::Coord c = it.getCoord();
+            voxels[{c.x(), c.y(), c.z()}] = *it;
+        }
+    }
+    return out;
+}
+
+TEST_CASE("A streamed tiled run finishes tiles before the last scan, with the same outputs",
+          "[tiles][pipeline][stream]") {
+    // 60 m of street in 12 frames; a 20 m range filter makes the tiles near the start
+    // unreachable by the later scans, so they can be finished early.
+    const fs::path root = streetRoot("stream", 12, 60.0);
+    const std::string tiling = "tiling: {tile_size_m: 6.4, halo_m: 1, occluder_margin_m: 3, "
+                               "max_view_distance_m: 20";
+    const std::string dataset = ", max_range_m: 20";
+    Report streamed_report, whole_report;
+    fs::remove_all(root / "streamed");
+    fs::remove_all(root / "whole");
+    Pipeline::fromString(streetYaml("", tiling + "}\n", dataset), "streamed", root)
+        ->run(root / "streamed", streamed_report, true);
+    Pipeline::fromString(streetYaml("", tiling + ", stream: false}\n", dataset), "whole", root)
+        ->run(root / "whole", whole_report, true);
+
+    // Every tile file and the index are byte for byte those of the unstreamed run.
+    const auto streamed = filesBelow(root / "streamed" / "tiles");
+    const auto whole = filesBelow(root / "whole" / "tiles");
+    REQUIRE(streamed.size() > 20);
+    CHECK(streamed.size() == whole.size());
+    for (const auto& [file, bytes] : whole) {
+        INFO(file);
+        REQUIRE(streamed.count(file) == 1);
+        CHECK(streamed.at(file) == bytes);
+    }
+    std::ifstream a(root / "streamed" / "tiles.json"), b(root / "whole" / "tiles.json");
+    const std::string index_a(std::istreambuf_iterator<char>(a), {});
+    const std::string index_b(std::istreambuf_iterator<char>(b), {});
+    CHECK(index_a == index_b);
+    // One map.vdb of the whole map, the same voxels.
+    CHECK(vdbVoxels(root / "streamed" / "map.vdb") == vdbVoxels(root / "whole" / "map.vdb"));
+
+    // Tiles were finished while scans were still coming in, each after every scan that can
+    // reach it and every view that may see it.
+    const nlohmann::json index = nlohmann::json::parse(index_a);
+    const nlohmann::json report = nlohmann::json::parse(streamed_report.toJson());
+    DatasetConfig dataset_config;
+    dataset_config.path = (root / "seq").string();
+    const auto ds = Dataset::open(dataset_config, root);
+    const std::vector<View> views = datasetViews(*ds, false, false);
+    const std::size_t last = ds->numFrames() - 1;
+    std::size_t early = 0;
+    for (const auto& tile : index["tiles"]) {
+        const std::string name = tile["name"];
+        INFO("tile " << name);
+        const long after = report["tiles"][name]["finished_after_frame"];
+        CHECK(nlohmann::json::parse(whole_report.toJson())["tiles"][name]["finished_after_frame"] ==
+              static_cast<long>(last));
+        early += after < static_cast<long>(last) ? 1 : 0;
+        Box3d halo;
+        for (int k = 0; k < 3; ++k) {
+            halo.min_W[k] = tile["halo_bounds_W"]["min"][k];
+            halo.max_W[k] = tile["halo_bounds_W"]["max"][k];
+        }
+        for (const View& v : views) {
+            if (viewMaySeeBox(v, halo, 0.0, 20.0)) CHECK(static_cast<long>(v.frame) <= after);
+        }
+    }
+    CHECK(early >= 3);
+    CHECK(report["tiling"]["stream"] == true);
+    CHECK(report["status"]["state"] == "done");
 }
 
 TEST_CASE("A failing tile fails the run, names the tile and leaves no tiles.json",

@@ -28,7 +28,7 @@ public:
 
 }  // namespace
 
-void writeMapVdb(const std::filesystem::path& path, const VoxelMap& map) {
+openvdb::GridPtrVec mapVdbGrids(const VoxelMap& map) {
     openvdb::GridPtrVec grids;
     // Plain float grids decoded from the packed TSDF; the names and classes are those of DATA.md.
     openvdb::FloatGrid::Ptr surface = map.surfaceGrid();
@@ -44,9 +44,18 @@ void writeMapVdb(const std::filesystem::path& path, const VoxelMap& map) {
         g->setName(name);
         grids.push_back(g);
     }
+    return grids;
+}
+
+openvdb::MetaMap mapVdbMetadata(const VoxelMap& map) {
     openvdb::MetaMap meta(map.metadata());
     meta.insertMeta("creator", openvdb::StringMetadata(std::string("vdbmap ") + versionString()));
     if (!meta["voxel_size_m"]) meta.insertMeta("voxel_size_m", openvdb::DoubleMetadata(map.voxelSize()));
+    return meta;
+}
+
+void writeVdbGrids(const std::filesystem::path& path, const openvdb::GridPtrVec& grids,
+                   const openvdb::MetaMap& meta) {
     AtomicFile out(path);
     std::ofstream stream = detail::openOutput(out.tempPath(), path);
     try {
@@ -56,6 +65,10 @@ void writeMapVdb(const std::filesystem::path& path, const VoxelMap& map) {
     }
     detail::closeOutput(stream, path);  // a full disk or a file-size limit is an IoError here
     out.commit();
+}
+
+void writeMapVdb(const std::filesystem::path& path, const VoxelMap& map) {
+    writeVdbGrids(path, mapVdbGrids(map), mapVdbMetadata(map));
 }
 
 }  // namespace vdbmap
