@@ -40,7 +40,8 @@ openvdb::GridPtrVec mapVdbGrids(const VoxelMap& map) {
         grids.push_back(map.truncationGrid(static_cast<float>(eps_max->value())));
     }
     for (const auto& [name, grid] : map.extraGrids()) {
-        openvdb::GridBase::Ptr g = grid->copyGrid();
+        // A new grid object sharing the (unchanged) tree: only its name is set.
+        openvdb::GridBase::Ptr g = openvdb::ConstPtrCast<openvdb::GridBase>(grid->copyGrid());
         g->setName(name);
         grids.push_back(g);
     }
