@@ -9,6 +9,7 @@
 #include "SemanticFusion.h"
 #include "SemanticRunReport.h"
 #include "SemanticSources.h"
+#include "TileFill.h"
 #include "VoteCombination.h"
 #include "vdbmap/Error.h"
 #include "vdbmap/core/Log.h"
@@ -250,9 +251,17 @@ void SemanticMrfStage::run(Context& ctx) {
     }
 
     Timer step;
-    const FusionResult result = fuse(mesh, dataset, opt_, faces, sources.votes, labels);
+    FusionResult result = fuse(mesh, dataset, opt_, faces, sources.votes, labels);
     SemanticRunFigures figures;
     figures.mrf_s = step.elapsedSeconds();
+    // A tile: unobserved regions its halo cuts off from every observed face are labelled
+    // from the tile grown by its occluder margin (TileFill.h).
+    const TileFillWidening widened = fillFromWiderTile(ctx, result, [&](Context& wide) {
+        const FaceArrays wide_faces = faceArrays(wide.mesh());
+        const Sources s = gatherSources(stage, wide, opt_, wide_faces, labels);
+        if (s.votes.numFaces() == 0) return std::vector<std::uint8_t>();
+        return fuse(wide.mesh(), dataset, opt_, wide_faces, s.votes, labels).face_labels;
+    });
     setFaceLabelProperty(mesh, result.face_labels);
 
     step.reset();
@@ -271,6 +280,10 @@ void SemanticMrfStage::run(Context& ctx) {
     figures.fill = opt_.fill;
     figures.total_s = total.elapsedSeconds();
     reportSemanticRun(ctx.report(), stage, mesh, figures);
+    if (ctx.hasTile()) {
+        ctx.report().stage(stage, "widened_fill_faces", widened.faces_relabelled);
+        ctx.report().stage(stage, "widened_fill_s", widened.seconds);
+    }
 }
 
 }  // namespace vdbmap::semantic

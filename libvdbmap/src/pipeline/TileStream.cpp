@@ -85,6 +85,7 @@ void TileStream::finish(const PlannedTile& planned, long after_frame) {
     Context& ctx = *setup_.ctx;
     auto tile = std::make_shared<Tile>(grid_->tile(planned.ix, planned.iy));
     tile->scan_frames = planned.scan_frames;
+    tile->max_view_distance_m = setup_.tiling->max_view_distance_m;
     // Tiles are created on demand: a planned tile that no scan gave an observed leaf in its
     // core does not exist.
     if (!grid_->fitToMap(*tile, ctx.map())) {

@@ -21,7 +21,8 @@ class Dataset;
 struct TilingConfig {
     double tile_size_m = 0.0;           ///< tile edge; 0 = untiled
     double halo_m = 4.0;                ///< border of neighbouring mesh each tile sees
-    double max_view_distance_m = 60.0;  ///< a view is given to a tile only within this distance
+    /// A view is given to a tile only if its frustum meets the tile within this depth.
+    double max_view_distance_m = 40.0;
     /// Mesh around the tile (beyond the halo) used only as occluder by visibility tests.
     double occluder_margin_m = 30.0;
     bool merge = false;                 ///< also write today's single outputs (when they fit)
@@ -57,6 +58,8 @@ struct Tile {
     Box3d halo_W;             ///< core grown by the halo
     /// (frame, camera) of every view that may see the tile (frustum, max view distance).
     std::vector<std::pair<std::size_t, std::size_t>> views;
+    /// The tiling's max_view_distance_m the views were chosen with (for wider contexts).
+    double max_view_distance_m = 40.0;
     /// Frames whose scans may change the map around the tile (its occluder region), ascending;
     /// empty when the run was not planned from the poses (TileGrid::tilesOf).
     std::vector<std::size_t> scan_frames;
@@ -94,8 +97,8 @@ public:
     bool fitToMap(Tile& tile, const VoxelMap& map) const;
     /// Tiles holding at least one observed leaf of `map`, fitted to it, views not assigned.
     std::vector<Tile> tilesOf(const VoxelMap& map) const;
-    /// Assigns to each tile every view of the dataset (frame x camera) whose frustum may see
-    /// the tile's halo box within `max_view_distance_m`.
+    /// Assigns to each tile every view of the dataset (frame x camera) whose frustum meets
+    /// the tile's halo box within the depth `max_view_distance_m` (viewFrustumMeetsBox).
     static void assignViews(std::vector<Tile>& tiles, const Dataset& dataset,
                             double max_view_distance_m);
     /// The same for one tile and a list of views (datasetViews of the dataset).
