@@ -10,10 +10,9 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
-#include <openvdb/io/File.h>
-#include <openvdb/openvdb.h>
 #include <set>
 
+#include "support/OutputCompare.h"
 #include "vdbmap/Error.h"
 #include "vdbmap/core/Log.h"
 #include "vdbmap/io/MeshIO.h"
@@ -26,6 +25,9 @@
 
 namespace fs = std::filesystem;
 using namespace vdbmap;
+using vdbmap::test::filesBelow;
+using vdbmap::test::readText;
+using vdbmap::test::vdbVoxels;
 
 namespace {
 
@@ -199,37 +201,6 @@ TEST_CASE("A tiled run gives the untiled mesh and labels, tile by tile", "[tiles
     CHECK(tiled_report.getJson({"status", "state"}) == "\"done\"");
 }
 
-/// Every regular file below `dir`, relative to it, with its bytes.
-std::map<std::string, std::string> filesBelow(const fs::path& dir) {
-    std::map<std::string, std::string> files;
-    for (const auto& entry : fs::recursive_directory_iterator(dir)) {
-        if (!entry.is_regular_file()) continue;
-        std::ifstream in(entry.path(), std::ios::binary);
-        files[fs::relative(entry.path(), dir).generic_string()] =
-            std::string(std::istreambuf_iterator<char>(in), {});
-    }
-    return files;
-}
-
-/// The voxels of every float grid of a .vdb file, by grid name.
-std::map<std::string, std::map<std::array<int, 3>, float>> vdbVoxels(const fs::path& file) {
-    openvdb::initialize();
-    openvdb::io::File f(file.string());
-    f.open();
-    std::map<std::string, std::map<std::array<int, 3>, float>> out;
-    const openvdb::GridPtrVecPtr grids = f.getGrids();  // kept alive while iterating
-    for (const openvdb::GridBase::Ptr& base : *grids) {
-        const auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
-        REQUIRE(grid);
-        auto& voxels = out[grid->getName()];
-        for (auto it = grid->cbeginValueOn(); it; ++it) {
-            const openvdb::Coord c = it.getCoord();
-            voxels[{c.x(), c.y(), c.z()}] = *it;
-        }
-    }
-    return out;
-}
-
 TEST_CASE("A streamed tiled run finishes tiles before the last scan, with the same outputs",
           "[tiles][pipeline][stream]") {
     // 60 m of street in 12 frames; a 20 m range filter makes the tiles near the start
@@ -256,10 +227,8 @@ TEST_CASE("A streamed tiled run finishes tiles before the last scan, with the sa
         REQUIRE(streamed.count(file) == 1);
         CHECK(streamed.at(file) == bytes);
     }
-    std::ifstream a(root / "streamed" / "tiles.json"), b(root / "whole" / "tiles.json");
-    const std::string index_a(std::istreambuf_iterator<char>(a), {});
-    const std::string index_b(std::istreambuf_iterator<char>(b), {});
-    CHECK(index_a == index_b);
+    const std::string index_a = readText(root / "streamed" / "tiles.json");
+    CHECK(index_a == readText(root / "whole" / "tiles.json"));
     // One map.vdb of the whole map, the same voxels.
     CHECK(vdbVoxels(root / "streamed" / "map.vdb") == vdbVoxels(root / "whole" / "map.vdb"));
 
@@ -286,7 +255,7 @@ TEST_CASE("A streamed tiled run finishes tiles before the last scan, with the sa
             halo.max_W[k] = tile["halo_bounds_W"]["max"][k];
         }
         for (const View& v : views) {
-            if (viewMaySeeBox(v, halo, 0.0, 20.0)) CHECK(static_cast<long>(v.frame) <= after);
+            if (viewFrustumMeetsBox(v, halo, 0.0, 20.0)) CHECK(static_cast<long>(v.frame) <= after);
         }
     }
     CHECK(early >= 3);
@@ -370,4 +339,11 @@ TEST_CASE("View frustum test against boxes", "[tiles][render]") {
     CHECK(viewDistanceToBox(view, box(3, 4, -1, 5, 6, 1)) == Approx(5.0));
     view.T_C_W = Isometry3d(Eigen::Translation3d(0, 0, 10));  // camera at z = -10 in W
     CHECK(viewMaySeeBox(view, box(-1, -1, -6, 1, 1, -5), 0.1, 100));
+    // The frustum planes alone: depth (camera z) is what limits a face's visibility, so a box
+    // off the axis within that depth but farther from the centre still meets the frustum.
+    view.T_C_W = Isometry3d::Identity();
+    CHECK(viewFrustumMeetsBox(view, box(8, -1, 9.5, 9, 1, 10), 0.1, 10));
+    CHECK_FALSE(viewMaySeeBox(view, box(8, -1, 9.5, 9, 1, 10), 0.1, 10));  // 12.7 m away
+    CHECK_FALSE(viewFrustumMeetsBox(view, box(8, -1, 10.5, 9, 1, 11), 0.1, 10));  // deeper
+    CHECK_FALSE(viewFrustumMeetsBox(view, box(12, -1, 9.5, 13, 1, 10), 0.1, 10));  // outside
 }

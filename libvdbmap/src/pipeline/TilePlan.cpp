@@ -35,6 +35,15 @@ struct GroundRect {
 
 using TileKey = std::pair<int, int>;  // (iy, ix)
 
+/// How far from the camera centre a point of the view's frustum at depth <= depth_m can lie:
+/// depth times the length of the ray through the farthest image corner (z = 1).
+double frustumReach(const View& view, double depth_m) {
+    const CameraIntrinsics& k = view.intrinsics;
+    const double x = std::max(k.cx + 0.5, k.width - 0.5 - k.cx) / k.fx;
+    const double y = std::max(k.cy + 0.5, k.height - 0.5 - k.cy) / k.fy;
+    return depth_m * std::sqrt(1.0 + x * x + y * y);
+}
+
 class Planner {
 public:
     Planner(const TileGrid& grid, const Dataset& dataset, const TilePlanOptions& options)
@@ -105,8 +114,8 @@ private:
         }
     }
 
-    /// Phase 2: the last view that may see each tile: frustum and max view distance against
-    /// the tile's halo box, spanning every height a scan can reach (the tile's real box, known
+    /// Phase 2: the last view that may see each tile: its frustum up to the max view depth
+    /// against the tile's halo box, spanning every height a scan can reach (the tile's real box, known
     /// once its leaves are, lies inside: the views it gets are among these).
     void viewPhase() {
         if (tiles_.empty()) return;
@@ -116,7 +125,8 @@ private:
             const Eigen::Vector3d c_W = view.T_C_W.inverse().translation();
             double g[2];
             ground(c_W, g);
-            tilesAround(g, options_.max_view_distance_m, halo_m, [&](int ix, int iy) {
+            tilesAround(g, frustumReach(view, options_.max_view_distance_m), halo_m,
+                        [&](int ix, int iy) {
                 auto it = tiles_.find({iy, ix});
                 if (it == tiles_.end() || view.frame <= it->second.finish_frame) return;
                 const GroundRect h = core(ix, iy).grown(halo_m);
@@ -127,7 +137,7 @@ private:
                 box.max_W[grid_.groundAxis(1)] = h.max[1];
                 box.min_W[grid_.upAxis()] = up_min_ - reach;
                 box.max_W[grid_.upAxis()] = up_max_ + reach;
-                if (viewMaySeeBox(view, box, 0.0, options_.max_view_distance_m)) {
+                if (viewFrustumMeetsBox(view, box, 0.0, options_.max_view_distance_m)) {
                     it->second.finish_frame = view.frame;
                 }
             });

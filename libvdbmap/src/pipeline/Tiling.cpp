@@ -37,8 +37,10 @@ void TilingConfig::declareOptions(OptionSpec& spec) {
     spec.add("halo_m", "Border of neighbouring mesh each tile sees (MRFs, seams) but does not write",
              halo_m, 4.0, "m");
     spec.add("max_view_distance_m",
-             "A view is given to a tile only if the tile lies within this distance of the camera",
-             max_view_distance_m, 60.0, "m");
+             "A view is given to a tile only if its frustum meets the tile's box within this "
+             "depth (camera z); at least the texture and semantic stages' max_depth_m (40 m), "
+             "so that no view that can see a face of the tile is left out",
+             max_view_distance_m, 40.0, "m");
     spec.add("occluder_margin_m",
              "Mesh this far around a tile is an occluder in its visibility tests (never written; "
              "0 or less than halo_m = the halo only)",
@@ -193,7 +195,7 @@ void TileGrid::assignViews(Tile& tile, const std::vector<View>& views,
                            double max_view_distance_m) {
     tile.views.clear();
     for (const View& view : views) {
-        if (viewMaySeeBox(view, tile.halo_W, 0.0, max_view_distance_m)) {
+        if (viewFrustumMeetsBox(view, tile.halo_W, 0.0, max_view_distance_m)) {
             tile.views.emplace_back(view.frame, view.camera);
         }
     }
