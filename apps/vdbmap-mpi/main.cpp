@@ -3,12 +3,9 @@
 // MPI job (mpirun -np N vdbmap-mpi run ..., or srun on a cluster). The tiles are spread over
 // the ranks; rank 0 writes map.vdb, tiles.json and report.json (README: tiled runs).
 #include <mpi.h>
-#include <unistd.h>
 
 #include <CLI/CLI.hpp>
-#include <climits>
 #include <exception>
-#include <filesystem>
 
 #include "../vdbmap/Commands.h"
 #include "MpiProcessGroup.h"
@@ -17,19 +14,8 @@
 #include "vdbmap/core/Log.h"
 #include "vdbmap/pipeline/Pipeline.h"
 #include "vdbmap/pipeline/StageRegistry.h"
-#include "vdbmap/plugin/PluginLoader.h"
 
 namespace {
-
-/// Lets a relocated install find its plugins: `<exe dir>/../lib/vdbmap/plugins`.
-void addRelocatablePluginDir() {
-    char buffer[PATH_MAX];
-    const ssize_t n = ::readlink("/proc/self/exe", buffer, sizeof(buffer) - 1);
-    if (n <= 0) return;
-    buffer[n] = '\0';
-    const std::filesystem::path exe_dir = std::filesystem::path(buffer).parent_path();
-    vdbmap::PluginLoader::addSearchDirectory(exe_dir.parent_path() / "lib" / "vdbmap" / "plugins");
-}
 
 /// Parses and runs the command line; returns the exit code. Every rank reaches the same
 /// result (Pipeline::run agrees on failures), so only rank 0 prints the error.

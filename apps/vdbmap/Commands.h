@@ -12,6 +12,9 @@ namespace vdbmap {
 class ProcessGroup;
 }
 
+/// Lets a relocated install find its plugins: `<exe dir>/../lib/vdbmap/plugins`.
+void addRelocatablePluginDir();
+
 /// `vdbmap run CONFIG.yaml [-o OUTDIR] [--set key.path=value ...] [--threads N] [--quiet]`.
 /// With `group` (vdbmap-mpi) the run is one process of a distributed job: processes other
 /// than 0 run quietly (warnings only, no progress bars).

@@ -5,9 +5,6 @@
 // is a warning. OMPI_ALLOW_RUN_AS_ROOT(_CONFIRM) are set for the mpirun child only.
 #include <catch2/catch.hpp>
 
-#include <openvdb/io/File.h>
-#include <openvdb/openvdb.h>
-
 #include <array>
 #include <filesystem>
 #include <fstream>
@@ -16,11 +13,15 @@
 #include <string>
 
 #include "support/CliRun.h"
+#include "support/OutputCompare.h"
 
 namespace fs = std::filesystem;
 using namespace vdbmap;
 using vdbmap::test::Child;
 using vdbmap::test::ChildOptions;
+using vdbmap::test::filesBelow;
+using vdbmap::test::readText;
+using vdbmap::test::vdbVoxels;
 
 namespace {
 
@@ -31,14 +32,7 @@ fs::path workDir() { return fs::path(VDBMAP_BINARY_DIR) / "test_scratch" / "mpi_
 /// A 60 m street in 12 frames (images, semantic images, LiDAR labels), written once.
 fs::path sequence() {
     const fs::path dir = workDir() / "seq";
-    if (!fs::exists(dir / "gt" / "sim.json")) {
-        SimOptions sim;
-        sim.frames = 12;
-        sim.size_m = 60.0;
-        sim.gt_views = 0;
-        sim.quiet = true;
-        writeSimSequence(sim, dir);
-    }
+    test::writeSimStreet(dir, 12, 60.0);
     return dir;
 }
 
@@ -68,40 +62,6 @@ ChildOptions mpiEnv() {
 std::vector<std::string> mpiArgs(int ranks, const fs::path& config, const fs::path& out) {
     return {"--oversubscribe", "-np", std::to_string(ranks), kMpiExe.string(), "run",
             config.string(), "-o", out.string(), "--quiet"};
-}
-
-std::map<std::string, std::string> filesBelow(const fs::path& dir) {
-    std::map<std::string, std::string> files;
-    for (const auto& entry : fs::recursive_directory_iterator(dir)) {
-        if (!entry.is_regular_file()) continue;
-        std::ifstream in(entry.path(), std::ios::binary);
-        files[fs::relative(entry.path(), dir).generic_string()] =
-            std::string(std::istreambuf_iterator<char>(in), {});
-    }
-    return files;
-}
-
-std::string readText(const fs::path& file) {
-    std::ifstream in(file, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-std::map<std::string, std::map<std::array<int, 3>, float>> vdbVoxels(const fs::path& file) {
-    openvdb::initialize();
-    openvdb::io::File f(file.string());
-    f.open();
-    std::map<std::string, std::map<std::array<int, 3>, float>> out;
-    const openvdb::GridPtrVecPtr grids = f.getGrids();  // kept alive while iterating
-    for (const openvdb::GridBase::Ptr& base : *grids) {
-        const auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
-        REQUIRE(grid);
-        auto& voxels = out[grid->getName()];
-        for (auto it = grid->cbeginValueOn(); it; ++it) {
-            const openvdb::Coord c = it.getCoord();
-            voxels[{c.x(), c.y(), c.z()}] = *it;
-        }
-    }
-    return out;
 }
 
 }  // namespace

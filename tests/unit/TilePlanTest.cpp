@@ -92,14 +92,7 @@ TEST_CASE("partitionContiguous: the smallest largest part, every process busy", 
 TEST_CASE("planTiles: tiles and scan frames are those a scan's reach gives", "[tiles]") {
     setLogLevel(LogLevel::Warn);
     const fs::path dir = fs::path(VDBMAP_BINARY_DIR) / "test_scratch" / "tile_plan" / "seq";
-    if (!fs::exists(dir / "gt" / "sim.json")) {
-        SimOptions sim;
-        sim.frames = 12;
-        sim.size_m = 60.0;
-        sim.gt_views = 0;
-        sim.quiet = true;
-        writeSimSequence(sim, dir);
-    }
+    test::writeSimStreet(dir, 12, 60.0);
     DatasetConfig config;
     config.path = dir.string();
     const auto dataset = Dataset::open(config);
