@@ -1,6 +1,4 @@
 // SPDX-License-Identifier: Apache-2.0
-#include <sys/resource.h>
-
 #include <algorithm>
 #include <cstdio>
 #include <nlohmann/json.hpp>
@@ -48,14 +46,6 @@ std::string formatSeconds(double s) {
     char buffer[32];
     std::snprintf(buffer, sizeof(buffer), "%.2f s", s);
     return buffer;
-}
-
-/// User + system CPU time of this process so far, seconds.
-double cpuSeconds() {
-    rusage usage{};
-    getrusage(RUSAGE_SELF, &usage);
-    auto s = [](const timeval& t) { return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec); };
-    return s(usage.ru_utime) + s(usage.ru_stime);
 }
 
 }  // namespace
@@ -145,7 +135,7 @@ private:
     void writeReport() {
         report_.set({"peak_memory_bytes"}, peakMemoryBytes());
         report_.set({"timings", "total_s"}, total_.elapsedSeconds());
-        report_.set({"timings", "cpu_s"}, cpuSeconds());
+        report_.set({"timings", "cpu_s"}, processCpuSeconds());
         if (p_.output.write_report) report_.write(output_dir_ / "report.json");
     }
 
@@ -363,7 +353,7 @@ private:
         s["tiles"] = stream_ ? stream_->outcomes().size() : 0;
         s["frames_integrated"] = stream_ && stream_->begun() ? stream_->frames().size() : 0;
         s["tiles_s"] = tile_seconds_;
-        s["cpu_time_s"] = cpuSeconds();
+        s["cpu_time_s"] = processCpuSeconds();
         s["wall_time_s"] = total_.elapsedSeconds();
         s["peak_memory_bytes"] = peakMemoryBytes();
         if (stream_) {

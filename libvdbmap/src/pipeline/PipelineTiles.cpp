@@ -69,6 +69,7 @@ TileOutcome runTileStages(std::vector<PipelineStage>& stages, std::size_t first,
     if (ec) throw IoError(dir.string() + ": cannot create the tile folder: " + ec.message());
     resetPeakMemoryWindow();
     Timer timer;
+    const double cpu_before = processCpuSeconds();
     Report tile_report;
     TileOutcome out;
     out.name = tile->name();
@@ -96,6 +97,7 @@ TileOutcome runTileStages(std::vector<PipelineStage>& stages, std::size_t first,
         return out;
     }
     const double seconds = timer.elapsedSeconds();
+    const double cpu_seconds = processCpuSeconds() - cpu_before;
     const nlohmann::json stage_figures = nlohmann::json::parse(tile_report.getJson({"stages"}));
     const nlohmann::json index = {{"name", tile->name()},
                  {"ix", tile->ix},
@@ -115,6 +117,7 @@ TileOutcome runTileStages(std::vector<PipelineStage>& stages, std::size_t first,
                                    {"halo_faces", out.halo_faces},
                                    {"finished_after_frame", finished_after_frame},
                                    {"wall_time_s", seconds},
+                                   {"cpu_time_s", cpu_seconds},
                                    {"peak_memory_bytes", windowPeakMemoryBytes()},
                                    {"stages", stage_figures}};
     out.index_json = index.dump();
@@ -147,8 +150,10 @@ std::string tilesIndex(std::vector<TileOutcome> outcomes, const TileSummary& sum
     nlohmann::json report_tiles = nlohmann::json::object();
     nlohmann::json stage_totals = nlohmann::json::object();
     std::size_t faces = 0, halo_faces = 0, peak_tile = 0;
+    double cpu_s = 0.0;
     for (const TileOutcome& outcome : outcomes) {
         const nlohmann::json tile_report = nlohmann::json::parse(outcome.report_json);
+        cpu_s += tile_report.value("cpu_time_s", 0.0);
         faces += outcome.faces;
         halo_faces += outcome.halo_faces;
         peak_tile = std::max<std::size_t>(peak_tile, tile_report["peak_memory_bytes"]);
@@ -173,6 +178,7 @@ std::string tilesIndex(std::vector<TileOutcome> outcomes, const TileSummary& sum
     report.set({"tiling", "faces"}, faces);
     report.set({"tiling", "halo_faces"}, halo_faces);
     report.set({"tiling", "max_tile_peak_memory_bytes"}, peak_tile);
+    report.set({"tiling", "cpu_time_s"}, cpu_s);
     report.setJson({"tiling", "stages"}, stage_totals.dump());
 
     nlohmann::json index;
