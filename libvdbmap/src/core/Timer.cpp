@@ -41,7 +41,7 @@ bool resetPeakMemoryWindow() {
     return static_cast<bool>(clear);
 }
 
-double processCpuSeconds() {
+double processCpuTimeS() {
     rusage usage{};
     getrusage(RUSAGE_SELF, &usage);
     auto seconds = [](const timeval& t) {

@@ -135,7 +135,7 @@ private:
     void writeReport() {
         report_.set({"peak_memory_bytes"}, peakMemoryBytes());
         report_.set({"timings", "total_s"}, total_.elapsedSeconds());
-        report_.set({"timings", "cpu_s"}, processCpuSeconds());
+        report_.set({"timings", "cpu_s"}, processCpuTimeS());
         if (p_.output.write_report) report_.write(output_dir_ / "report.json");
     }
 
@@ -353,7 +353,7 @@ private:
         s["tiles"] = stream_ ? stream_->outcomes().size() : 0;
         s["frames_integrated"] = stream_ && stream_->begun() ? stream_->frames().size() : 0;
         s["tiles_s"] = tile_seconds_;
-        s["cpu_time_s"] = processCpuSeconds();
+        s["cpu_time_s"] = processCpuTimeS();
         s["wall_time_s"] = total_.elapsedSeconds();
         s["peak_memory_bytes"] = peakMemoryBytes();
         if (stream_) {

@@ -69,7 +69,7 @@ TileOutcome runTileStages(std::vector<PipelineStage>& stages, std::size_t first,
     if (ec) throw IoError(dir.string() + ": cannot create the tile folder: " + ec.message());
     resetPeakMemoryWindow();
     Timer timer;
-    const double cpu_before = processCpuSeconds();
+    const double cpu_before = processCpuTimeS();
     Report tile_report;
     TileOutcome out;
     out.name = tile->name();
@@ -97,7 +97,7 @@ TileOutcome runTileStages(std::vector<PipelineStage>& stages, std::size_t first,
         return out;
     }
     const double seconds = timer.elapsedSeconds();
-    const double cpu_seconds = processCpuSeconds() - cpu_before;
+    const double cpu_seconds = processCpuTimeS() - cpu_before;
     const nlohmann::json stage_figures = nlohmann::json::parse(tile_report.getJson({"stages"}));
     const nlohmann::json index = {{"name", tile->name()},
                  {"ix", tile->ix},

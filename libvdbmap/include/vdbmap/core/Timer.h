@@ -33,6 +33,6 @@ std::size_t windowPeakMemoryBytes();
 
 /// User + system CPU time of this process so far (all threads), seconds (getrusage). Unlike
 /// wall time it does not grow when other processes share the machine.
-double processCpuSeconds();
+double processCpuTimeS();
 
 }  // namespace vdbmap
