@@ -2,6 +2,7 @@
 #include "TileFill.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <memory>
 #include <utility>
@@ -40,26 +41,56 @@ FaceKey faceKey(const TriMesh& mesh, TriMesh::FaceHandle fh) {
     return key;
 }
 
-/// Faces of the unlabelled components that hold a core face and a halo face.
-std::vector<std::uint32_t> cutRegionFaces(const std::vector<std::uint8_t>& labels,
+/// Whether face f has a mesh-boundary edge on the outer edge of the tile's mesh region (the
+/// planes where the halo ends): there the surface goes on beyond what the tile sees.
+bool cutByRegionEdge(const TriMesh& mesh, TriMesh::FaceHandle f, const Tile& tile) {
+    const MeshRegion& r = tile.region;
+    const double vs = tile.voxel_size_m;
+    auto onPlane = [&](const TriMesh::Point& p) {
+        for (int k = 0; k < 2; ++k) {
+            const double x = p[r.axes[k]] / vs;
+            if (std::abs(x - (r.core_min[k] - r.halo_vox)) < 1e-3 ||
+                std::abs(x - (r.core_max[k] + r.halo_vox)) < 1e-3) {
+                return true;
+            }
+        }
+        return false;
+    };
+    for (const auto heh : mesh.fh_range(f)) {
+        if (!mesh.is_boundary(mesh.opposite_halfedge_handle(heh))) continue;
+        if (onPlane(mesh.point(mesh.from_vertex_handle(heh))) &&
+            onPlane(mesh.point(mesh.to_vertex_handle(heh)))) {
+            return true;
+        }
+    }
+    return false;
+}
+
+/// Faces of the unlabelled components that hold a core face and reach the outer edge of the
+/// tile's mesh region (a closed unseen object inside it has nothing beyond to be filled from).
+std::vector<std::uint32_t> cutRegionFaces(const TriMesh& mesh, const Tile& tile,
+                                          const std::vector<std::uint8_t>& labels,
                                           const std::vector<std::uint8_t>& halo,
                                           const std::vector<std::array<std::uint32_t, 2>>& adjacency,
                                           std::size_t& regions) {
     const std::size_t n = labels.size();
     std::vector<std::uint32_t> parent = makeDisjointSets(n);
     for (const auto& e : adjacency) uniteSets(parent, e[0], e[1]);
-    std::vector<std::uint8_t> has_core(n, 0), has_halo(n, 0);
+    std::vector<std::uint8_t> has_core(n, 0), open(n, 0);
     for (std::size_t f = 0; f < n; ++f) {
         if (labels[f] != kUnknownLabel) continue;
         const std::uint32_t root = findRoot(parent, static_cast<std::uint32_t>(f));
-        (halo[f] ? has_halo : has_core)[root] = 1;
+        if (!halo[f]) has_core[root] = 1;
+        if (!open[root] && cutByRegionEdge(mesh, TriMesh::FaceHandle(static_cast<int>(f)), tile)) {
+            open[root] = 1;
+        }
     }
     std::vector<std::uint32_t> faces;
     regions = 0;
     for (std::size_t f = 0; f < n; ++f) {
         if (labels[f] != kUnknownLabel) continue;
         const std::uint32_t root = findRoot(parent, static_cast<std::uint32_t>(f));
-        if (!has_core[root] || !has_halo[root]) continue;
+        if (!has_core[root] || !open[root]) continue;
         faces.push_back(static_cast<std::uint32_t>(f));
         regions += root == f ? 1 : 0;
     }
@@ -67,7 +98,7 @@ std::vector<std::uint32_t> cutRegionFaces(const std::vector<std::uint8_t>& label
 }
 
 /// The tile grown to its occluder margin, with the views of the grown box.
-std::shared_ptr<Tile> widerTile(const Tile& tile, const TriMesh& occluders, const Dataset& dataset) {
+std::shared_ptr<Tile> widerTile(const Tile& tile, const TriMesh& occluders, const Dataset* dataset) {
     auto wide = std::make_shared<Tile>(tile);
     wide->region = tile.occluder_region;
     const double grow_m = (tile.occluder_region.halo_vox - tile.region.halo_vox) * tile.voxel_size_m;
@@ -82,7 +113,9 @@ std::shared_ptr<Tile> widerTile(const Tile& tile, const TriMesh& occluders, cons
         wide->halo_W.min_W[tile.up_axis] = std::min(wide->halo_W.min_W[tile.up_axis], up);
         wide->halo_W.max_W[tile.up_axis] = std::max(wide->halo_W.max_W[tile.up_axis], up);
     }
-    TileGrid::assignViews(*wide, datasetViews(dataset, false, false), tile.max_view_distance_m);
+    if (dataset) {
+        TileGrid::assignViews(*wide, datasetViews(*dataset, false, false), tile.max_view_distance_m);
+    }
     return wide;
 }
 
@@ -95,8 +128,9 @@ TileFillWidening fillFromWiderTile(
     if (!ctx.hasTile() || result.unlabelled_faces == 0) return out;
     const Tile& tile = ctx.tile();
     if (tile.occluder_region.halo_vox <= tile.region.halo_vox) return out;
-    const std::vector<std::uint32_t> cut = cutRegionFaces(
-        result.face_labels, ctx.haloFaces(), faceAdjacency(ctx.mesh()), out.regions);
+    const std::vector<std::uint32_t> cut =
+        cutRegionFaces(ctx.mesh(), tile, result.face_labels, ctx.haloFaces(),
+                       faceAdjacency(ctx.mesh()), out.regions);
     if (cut.empty()) return out;
     Timer timer;
 
@@ -104,7 +138,8 @@ TileFillWidening fillFromWiderTile(
     const TriMesh& occluders = ctx.occluderMesh();
     Report scratch;
     std::unique_ptr<Context> wide =
-        ctx.tileContext(ctx.outputDir(), scratch, widerTile(tile, occluders, ctx.dataset()));
+        ctx.tileContext(ctx.outputDir(), scratch,
+                        widerTile(tile, occluders, ctx.hasDataset() ? &ctx.dataset() : nullptr));
     auto wide_mesh = std::make_shared<TriMesh>(occluders);
     wide->setMesh(wide_mesh);
     const std::vector<std::uint8_t> wide_labels = label(*wide);

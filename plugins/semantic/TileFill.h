@@ -26,7 +26,8 @@ struct TileFillWidening {
 /// the observed faces around it; in a tile, a region whose observed border lies beyond the
 /// halo has none and stays unlabelled although the untiled run labels it (e.g. the road
 /// behind the start of a drive, which a forward camera never sees). Such regions (connected
-/// faces without a label, holding a core and a halo face) are labelled from the tile
+/// faces without a label, holding a core face and a face with a mesh-boundary edge on the
+/// outer edge of the tile's mesh region, where the surface goes on) are labelled from the tile
 /// grown by its occluder margin: a context below ctx whose mesh is ctx.occluderMesh() (faces
 /// outside the core marked halo) and whose views are those of the grown box; `label(wide)`
 /// runs the sources and the MRF there and returns its face labels (empty: nothing labelled).
