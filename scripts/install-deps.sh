@@ -13,6 +13,7 @@ PACKAGES=(
     libyaml-cpp-dev catch2 libembree-dev
     libspdlog-dev libfmt-dev libcli11-dev nlohmann-json3-dev
     liblzf-dev
+    openmpi-bin libopenmpi-dev
 )
 
 missing=()

@@ -31,12 +31,19 @@ def read_ply(path):
         elif parts[:2] == ["element", "face"]:
             nf, current = int(parts[2]), fprops
         elif parts and parts[0] == "property" and current is not None:
-            current.append(parts[-1])
-    if any(p != "float" for p in []) or len(vprops) not in (3, 6):
+            # (name, type): the face list first, then per-face scalars (label, colour, ...)
+            current.append((parts[-1], parts[1] if parts[1] != "list" else "list"))
+    if any(t != "float" for _, t in vprops) or len(vprops) not in (3, 6):
         raise ValueError(f"{path}: unexpected vertex properties {vprops}")
+    vprops = [name for name, _ in vprops]
     vsize = 4 * len(vprops)
     verts = data[end:end + nv * vsize]
-    extras = len(fprops) - 1  # after vertex_indices: uchar label red green blue
+    # After vertex_indices: uchar label red green blue, float confidence, ...
+    sizes = {"char": 1, "uchar": 1, "short": 2, "ushort": 2, "int": 4, "uint": 4, "float": 4,
+             "double": 8}
+    if any(t not in sizes for _, t in fprops[1:]):
+        raise ValueError(f"{path}: unexpected face properties {fprops}")
+    extras = sum(sizes[t] for _, t in fprops[1:])
     fsize = 1 + 12 + extras
     off = end + nv * vsize
     faces = []
@@ -56,7 +63,7 @@ def write_ply(path, vprops, chunks, fprops):
     lines = ["ply", "format binary_little_endian 1.0", "comment vdbmap merge_tiles.py",
              f"element vertex {nv}"] + [f"property float {p}" for p in vprops] + \
             [f"element face {nf}", "property list uchar int vertex_indices"] + \
-            [f"property uchar {p}" for p in fprops[1:]] + ["end_header"]
+            [f"property {t} {name}" for name, t in fprops[1:]] + ["end_header"]
     with open(path + ".tmp", "wb") as out:
         out.write(("\n".join(lines) + "\n").encode("ascii"))
         for v, _ in chunks:

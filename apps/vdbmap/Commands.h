@@ -8,8 +8,17 @@
 /// 0 success, 2 usage or configuration error (CLI parse errors, ConfigError, PluginError),
 /// 1 runtime or input error (IoError, any other exception).
 
+namespace vdbmap {
+class ProcessGroup;
+}
+
+/// Lets a relocated install find its plugins: `<exe dir>/../lib/vdbmap/plugins`.
+void addRelocatablePluginDir();
+
 /// `vdbmap run CONFIG.yaml [-o OUTDIR] [--set key.path=value ...] [--threads N] [--quiet]`.
-void addRunCommand(CLI::App& app, int& exit_code);
+/// With `group` (vdbmap-mpi) the run is one process of a distributed job: processes other
+/// than 0 run quietly (warnings only, no progress bars).
+void addRunCommand(CLI::App& app, int& exit_code, vdbmap::ProcessGroup* group = nullptr);
 /// `vdbmap describe [STAGE|dataset|output] [--plugin NAME ...]`.
 void addDescribeCommand(CLI::App& app, int& exit_code);
 /// `vdbmap info FILE.vdb`.

@@ -10,6 +10,7 @@
 #include "vdbmap/Error.h"
 #include "vdbmap/core/Log.h"
 #include "vdbmap/pipeline/Pipeline.h"
+#include "vdbmap/pipeline/ProcessGroup.h"
 #include "vdbmap/pipeline/Report.h"
 
 namespace {
@@ -23,8 +24,10 @@ struct RunArgs {
     bool check_only = false;
 };
 
-int runPipeline(const RunArgs& args) {
-    if (args.quiet) vdbmap::setLogLevel(vdbmap::LogLevel::Warn);
+int runPipeline(const RunArgs& args, vdbmap::ProcessGroup* group) {
+    // Processes other than 0 of a distributed run report only warnings and errors.
+    const bool quiet = args.quiet || (group != nullptr && group->rank() != 0);
+    if (quiet) vdbmap::setLogLevel(vdbmap::LogLevel::Warn);
     // The app sets the thread count once; library code only uses TBB.
     std::unique_ptr<tbb::global_control> threads;
     if (args.threads > 0) {
@@ -41,7 +44,11 @@ int runPipeline(const RunArgs& args) {
         args.output_dir.empty() ? std::filesystem::path(pipeline->outputConfig().dir)
                                 : std::filesystem::path(args.output_dir);
     vdbmap::Report report;
-    pipeline->run(out, report, args.quiet);
+    if (group != nullptr) {
+        pipeline->run(out, report, quiet, *group);
+    } else {
+        pipeline->run(out, report, quiet);
+    }
     vdbmap::logInfo("done: outputs in " + out.string() +
                     (pipeline->outputConfig().write_report ? " (report.json)" : ""));
     return 0;
@@ -49,7 +56,7 @@ int runPipeline(const RunArgs& args) {
 
 }  // namespace
 
-void addRunCommand(CLI::App& app, int& exit_code) {
+void addRunCommand(CLI::App& app, int& exit_code, vdbmap::ProcessGroup* group) {
     auto args = std::make_shared<RunArgs>();
     CLI::App* run = app.add_subcommand("run", "Run a YAML pipeline (see config/ for examples)");
     run->add_option("config", args->config, "Pipeline file (YAML)")->required();
@@ -64,5 +71,5 @@ void addRunCommand(CLI::App& app, int& exit_code) {
     run->add_flag("-q,--quiet", args->quiet, "Only warnings and errors; no progress bars");
     run->add_flag("--check", args->check_only,
                   "Load and check the config (keys, types, plugins, layers) without running");
-    run->callback([args, &exit_code] { exit_code = runPipeline(*args); });
+    run->callback([args, &exit_code, group] { exit_code = runPipeline(*args, group); });
 }

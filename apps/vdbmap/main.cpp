@@ -1,11 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // `vdbmap`: runs YAML pipelines, describes stages, inspects .vdb files, evaluates runs.
-#include <unistd.h>
-
 #include <CLI/CLI.hpp>
-#include <climits>
 #include <exception>
-#include <filesystem>
 #include <iostream>
 
 #include "Commands.h"
@@ -14,21 +10,6 @@
 #include "vdbmap/core/Log.h"
 #include "vdbmap/pipeline/Pipeline.h"
 #include "vdbmap/pipeline/StageRegistry.h"
-#include "vdbmap/plugin/PluginLoader.h"
-
-namespace {
-
-/// Lets a relocated install find its plugins: `<exe dir>/../lib/vdbmap/plugins`.
-void addRelocatablePluginDir() {
-    char buffer[PATH_MAX];
-    const ssize_t n = ::readlink("/proc/self/exe", buffer, sizeof(buffer) - 1);
-    if (n <= 0) return;
-    buffer[n] = '\0';
-    const std::filesystem::path exe_dir = std::filesystem::path(buffer).parent_path();
-    vdbmap::PluginLoader::addSearchDirectory(exe_dir.parent_path() / "lib" / "vdbmap" / "plugins");
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
     CLI::App app{"vdbmap " + std::string(vdbmap::versionString()) +

@@ -87,7 +87,11 @@ void TextureMrfStage::declareOptions(OptionSpec& spec) {
     spec.add("max_view_angle_deg", "Reject views seeing a face flatter than this",
              max_view_angle_deg_, 80.0, "deg");
     spec.add("min_depth_m", "Nearest visible depth", min_depth_m_, 0.1, "m");
-    spec.add("max_depth_m", "Farthest visible depth", max_depth_m_, 200.0, "m");
+    spec.add("max_depth_m",
+             "Farthest visible depth (40 m: about 2 px per 10 cm face at KITTI's focal "
+             "length; nearer views win anyway, and the views per face, so the cost per metre "
+             "of drive, stay bounded)",
+             max_depth_m_, 40.0, "m");
     spec.add("occlusion_test", "Test occlusion by the mesh itself (Embree BVH)", occlusion_test_,
              true);
     spec.add("fill",

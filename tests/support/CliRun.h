@@ -15,6 +15,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "vdbmap/sim/SimSequence.h"
@@ -28,6 +29,8 @@ inline const std::filesystem::path kSimExe =
 
 struct ChildOptions {
     std::optional<rlim_t> file_size_limit;  ///< RLIMIT_FSIZE in bytes, SIGXFSZ ignored
+    /// Environment variables set in the child only ("NAME", "value").
+    std::vector<std::pair<std::string, std::string>> env;
 };
 
 /// A running child; stderr and stdout go to one pipe.
@@ -50,6 +53,7 @@ public:
                 ::setrlimit(RLIMIT_FSIZE, &limit);
             }
             ::setenv("CI", "true", 1);  // no progress bars
+            for (const auto& [name, value] : options.env) ::setenv(name.c_str(), value.c_str(), 1);
             std::vector<char*> argv;
             std::string exe_text = exe.string();
             argv.push_back(exe_text.data());
@@ -114,16 +118,21 @@ private:
     std::string log_;
 };
 
-/// A small simulated KITTI sequence (street, 3 frames, 20 m, images and semantic images, no
-/// held-out views) at `dir`, written once.
-inline void writeSmallSequence(const std::filesystem::path& dir, std::size_t frames = 3) {
+/// A simulated KITTI street of `size_m` metres in `frames` frames (images, semantic images,
+/// LiDAR labels, no held-out views) at `dir`, written once.
+inline void writeSimStreet(const std::filesystem::path& dir, std::size_t frames, double size_m) {
     if (std::filesystem::exists(dir / "gt" / "sim.json")) return;
     SimOptions sim;
     sim.frames = frames;
-    sim.size_m = 20.0;
+    sim.size_m = size_m;
     sim.gt_views = 0;
     sim.quiet = true;
     writeSimSequence(sim, dir);
+}
+
+/// A small simulated KITTI sequence (street, 3 frames, 20 m) at `dir`, written once.
+inline void writeSmallSequence(const std::filesystem::path& dir, std::size_t frames = 3) {
+    writeSimStreet(dir, frames, 20.0);
 }
 
 /// Removes a test process's work folder when the process ends (a static of the test file).

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "support/OutputCompare.h"
 #include "vdbmap/Error.h"
 #include "vdbmap/core/Log.h"
 #include "vdbmap/io/MeshIO.h"
@@ -24,6 +25,9 @@
 
 namespace fs = std::filesystem;
 using namespace vdbmap;
+using vdbmap::test::filesBelow;
+using vdbmap::test::readText;
+using vdbmap::test::vdbVoxels;
 
 namespace {
 
@@ -52,8 +56,9 @@ std::string plugin(const char* name) {
         .string();
 }
 
-std::string streetYaml(const std::string& extra_semantic, const std::string& tiling) {
-    return "dataset: {format: kitti, path: seq, min_range_m: 1.0}\n"
+std::string streetYaml(const std::string& extra_semantic, const std::string& tiling,
+                       const std::string& dataset_extra = "") {
+    return "dataset: {format: kitti, path: seq, min_range_m: 1.0" + dataset_extra + "}\n"
            "plugins: [\"" + plugin("texture") + "\", \"" + plugin("semantic") + "\"]\n"
            "stages:\n"
            "  - stage: integrate.atsdf\n"
@@ -66,7 +71,7 @@ std::string streetYaml(const std::string& extra_semantic, const std::string& til
 }
 
 /// A simulated street in its own folder per test case (ctest runs test cases in parallel).
-fs::path streetRoot(const std::string& test) {
+fs::path streetRoot(const std::string& test, std::size_t frames = 6, double size_m = 36.0) {
     static std::map<std::string, fs::path> roots;
     if (roots.count(test)) return roots[test];
     const fs::path root = [&] {
@@ -74,8 +79,8 @@ fs::path streetRoot(const std::string& test) {
         const fs::path r = fs::path(VDBMAP_BINARY_DIR) / "test_scratch" / ("tiled_pipeline_" + test);
         fs::remove_all(r);
         SimOptions sim;
-        sim.frames = 6;
-        sim.size_m = 36.0;
+        sim.frames = frames;
+        sim.size_m = size_m;
         sim.gt_views = 0;
         sim.quiet = true;
         writeSimSequence(sim, r / "seq");
@@ -196,6 +201,68 @@ TEST_CASE("A tiled run gives the untiled mesh and labels, tile by tile", "[tiles
     CHECK(tiled_report.getJson({"status", "state"}) == "\"done\"");
 }
 
+TEST_CASE("A streamed tiled run finishes tiles before the last scan, with the same outputs",
+          "[tiles][pipeline][stream]") {
+    // 60 m of street in 12 frames; a 20 m range filter makes the tiles near the start
+    // unreachable by the later scans, so they can be finished early.
+    const fs::path root = streetRoot("stream", 12, 60.0);
+    const std::string tiling = "tiling: {tile_size_m: 6.4, halo_m: 1, occluder_margin_m: 3, "
+                               "max_view_distance_m: 20";
+    const std::string dataset = ", max_range_m: 20";
+    Report streamed_report, whole_report;
+    fs::remove_all(root / "streamed");
+    fs::remove_all(root / "whole");
+    Pipeline::fromString(streetYaml("", tiling + "}\n", dataset), "streamed", root)
+        ->run(root / "streamed", streamed_report, true);
+    Pipeline::fromString(streetYaml("", tiling + ", stream: false}\n", dataset), "whole", root)
+        ->run(root / "whole", whole_report, true);
+
+    // Every tile file and the index are byte for byte those of the unstreamed run.
+    const auto streamed = filesBelow(root / "streamed" / "tiles");
+    const auto whole = filesBelow(root / "whole" / "tiles");
+    REQUIRE(streamed.size() > 20);
+    CHECK(streamed.size() == whole.size());
+    for (const auto& [file, bytes] : whole) {
+        INFO(file);
+        REQUIRE(streamed.count(file) == 1);
+        CHECK(streamed.at(file) == bytes);
+    }
+    const std::string index_a = readText(root / "streamed" / "tiles.json");
+    CHECK(index_a == readText(root / "whole" / "tiles.json"));
+    // One map.vdb of the whole map, the same voxels.
+    CHECK(vdbVoxels(root / "streamed" / "map.vdb") == vdbVoxels(root / "whole" / "map.vdb"));
+
+    // Tiles were finished while scans were still coming in, each after every scan that can
+    // reach it and every view that may see it.
+    const nlohmann::json index = nlohmann::json::parse(index_a);
+    const nlohmann::json report = nlohmann::json::parse(streamed_report.toJson());
+    DatasetConfig dataset_config;
+    dataset_config.path = (root / "seq").string();
+    const auto ds = Dataset::open(dataset_config, root);
+    const std::vector<View> views = datasetViews(*ds, false, false);
+    const std::size_t last = ds->numFrames() - 1;
+    std::size_t early = 0;
+    for (const auto& tile : index["tiles"]) {
+        const std::string name = tile["name"];
+        INFO("tile " << name);
+        const long after = report["tiles"][name]["finished_after_frame"];
+        CHECK(nlohmann::json::parse(whole_report.toJson())["tiles"][name]["finished_after_frame"] ==
+              static_cast<long>(last));
+        early += after < static_cast<long>(last) ? 1 : 0;
+        Box3d halo;
+        for (int k = 0; k < 3; ++k) {
+            halo.min_W[k] = tile["halo_bounds_W"]["min"][k];
+            halo.max_W[k] = tile["halo_bounds_W"]["max"][k];
+        }
+        for (const View& v : views) {
+            if (viewFrustumMeetsBox(v, halo, 0.0, 20.0)) CHECK(static_cast<long>(v.frame) <= after);
+        }
+    }
+    CHECK(early >= 3);
+    CHECK(report["tiling"]["stream"] == true);
+    CHECK(report["status"]["state"] == "done");
+}
+
 TEST_CASE("A failing tile fails the run, names the tile and leaves no tiles.json",
           "[tiles][pipeline]") {
     const fs::path root = streetRoot("failing");
@@ -272,4 +339,11 @@ TEST_CASE("View frustum test against boxes", "[tiles][render]") {
     CHECK(viewDistanceToBox(view, box(3, 4, -1, 5, 6, 1)) == Approx(5.0));
     view.T_C_W = Isometry3d(Eigen::Translation3d(0, 0, 10));  // camera at z = -10 in W
     CHECK(viewMaySeeBox(view, box(-1, -1, -6, 1, 1, -5), 0.1, 100));
+    // The frustum planes alone: depth (camera z) is what limits a face's visibility, so a box
+    // off the axis within that depth but farther from the centre still meets the frustum.
+    view.T_C_W = Isometry3d::Identity();
+    CHECK(viewFrustumMeetsBox(view, box(8, -1, 9.5, 9, 1, 10), 0.1, 10));
+    CHECK_FALSE(viewMaySeeBox(view, box(8, -1, 9.5, 9, 1, 10), 0.1, 10));  // 12.7 m away
+    CHECK_FALSE(viewFrustumMeetsBox(view, box(8, -1, 10.5, 9, 1, 11), 0.1, 10));  // deeper
+    CHECK_FALSE(viewFrustumMeetsBox(view, box(12, -1, 9.5, 13, 1, 10), 0.1, 10));  // outside
 }

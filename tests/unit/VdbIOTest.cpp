@@ -77,6 +77,46 @@ TEST_CASE("map.vdb round trip: grids, classes, values and metadata", "[tsdf][vdb
     CHECK(lo < hi);  // adaptive: not one value everywhere
 }
 
+TEST_CASE("writeMapVdb, one grid at a time, writes what Archive::write writes", "[tsdf][vdb]") {
+    // writeMapVdb decodes and writes one grid at a time (the decoded grids of a long drive are
+    // its largest allocation); the file must be Archive::write's file of all grids at once
+    // (writeVdbGrids), byte for byte but for the archive's random UUID.
+    SimScene scene;
+    scene.add(SimPlane{Vec3d(0, 0, -1.7), Vec3d::UnitZ()});
+    SimLidarConfig lidar;
+    lidar.azimuth_steps = 256;
+    VoxelMap map(0.1, 0.3f);
+    AtsdfIntegrator integrator(map, AtsdfConfig{});
+    integrateScans(integrator, scene, lidar, {poseAt(Vec3d::Zero())});
+    integrator.finalize();
+    auto label = openvdb::FloatGrid::create(0.0f);
+    label->tree().setValue(openvdb::Coord(1, 2, 3), 7.0f);
+    map.setExtraGrid("label", label);
+
+    const fs::path dir = fs::path(VDBMAP_BINARY_DIR) / "test_out" / "VdbIOTestOneByOne";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    writeMapVdb(dir / "lazy.vdb", map);
+    writeVdbGrids(dir / "all.vdb", mapVdbGrids(map), mapVdbMetadata(map));
+    auto bytes = [](const fs::path& p) {
+        std::ifstream in(p, std::ios::binary);
+        return std::string(std::istreambuf_iterator<char>(in), {});
+    };
+    const std::string lazy = bytes(dir / "lazy.vdb"), all = bytes(dir / "all.vdb");
+    REQUIRE(lazy.size() == all.size());
+    // Header: magic (8 B), file version (4), library version (8), offsets flag (1), UUID (36).
+    constexpr std::size_t kUuidBegin = 21, kUuidEnd = 57;
+    CHECK(lazy.substr(0, kUuidBegin) == all.substr(0, kUuidBegin));
+    CHECK(lazy.substr(kUuidEnd) == all.substr(kUuidEnd));
+
+    openvdb::io::File file((dir / "lazy.vdb").string());
+    file.open();
+    const auto read = openvdb::gridPtrCast<openvdb::FloatGrid>(file.readGrid("label"));
+    file.close();
+    REQUIRE(read);
+    CHECK(read->tree().getValue(openvdb::Coord(1, 2, 3)) == 7.0f);
+}
+
 TEST_CASE("writeMapVdb into an impossible path throws IoError and leaves nothing",
           "[tsdf][vdb]") {
     VoxelMap map(0.1);

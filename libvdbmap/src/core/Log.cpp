@@ -29,6 +29,13 @@ bool enabled(LogLevel level) {
 }  // namespace
 
 void setLogLevel(LogLevel level) { g_level.store(level); }
+
+void setLogPrefix(const std::string& prefix) {
+    std::string text;
+    for (const char c : prefix)
+        if (c != '%') text.push_back(c);
+    logger().set_pattern("[%^%l%$] " + text + "%v");
+}
 LogLevel logLevel() { return g_level.load(); }
 
 void logDebug(const std::string& message) {

@@ -2,6 +2,7 @@
 #include "vdbmap/map/IntegrateDataset.h"
 
 #include <future>
+#include <numeric>
 #include <utility>
 
 #include "vdbmap/core/Timer.h"
@@ -31,19 +32,23 @@ void add(ScanReadStats& total, const ScanReadStats& s) {
 }  // namespace
 
 DatasetIntegration integrateDataset(const Dataset& dataset, AtsdfIntegrator& integrator,
-                                    const std::function<void()>& on_scan, bool read_ahead) {
+                                    const std::vector<std::size_t>& frames,
+                                    const std::function<void(std::size_t)>& on_scan,
+                                    bool read_ahead) {
     DatasetIntegration out;
     Timer total;
-    const std::size_t n = dataset.numFrames();
+    const std::size_t n = frames.size();
+    for (const std::size_t f : frames) (void)dataset.frame(f);  // out_of_range before reading
     std::future<LoadedScan> next;
-    if (read_ahead && n > 0) next = std::async(std::launch::async, load, std::cref(dataset), 0);
-    for (std::size_t i = 0; i < n; ++i) {
+    if (read_ahead && n > 0) next = std::async(std::launch::async, load, std::cref(dataset), frames[0]);
+    for (std::size_t k = 0; k < n; ++k) {
+        const std::size_t i = frames[k];
         LoadedScan scan;
         if (read_ahead) {
             Timer wait;
             scan = next.get();
             out.read_wait_s += wait.elapsedSeconds();
-            if (i + 1 < n) next = std::async(std::launch::async, load, std::cref(dataset), i + 1);
+            if (k + 1 < n) next = std::async(std::launch::async, load, std::cref(dataset), frames[k + 1]);
         } else {
             Timer wait;
             scan = load(dataset, i);
@@ -51,10 +56,26 @@ DatasetIntegration integrateDataset(const Dataset& dataset, AtsdfIntegrator& int
         }
         add(out.read, scan.stats);
         integrator.integrateScan(scan.cloud.points, dataset.frame(i).T_W_L);
-        if (on_scan) on_scan();
+        if (on_scan) {
+            Timer callback;
+            on_scan(i);
+            out.on_scan_s += callback.elapsedSeconds();
+        }
     }
     out.seconds = total.elapsedSeconds();
     return out;
+}
+
+DatasetIntegration integrateDataset(const Dataset& dataset, AtsdfIntegrator& integrator,
+                                    const std::function<void()>& on_scan, bool read_ahead) {
+    std::vector<std::size_t> frames(dataset.numFrames());
+    std::iota(frames.begin(), frames.end(), std::size_t(0));
+    return integrateDataset(
+        dataset, integrator, frames,
+        [&on_scan](std::size_t) {
+            if (on_scan) on_scan();
+        },
+        read_ahead);
 }
 
 }  // namespace vdbmap

@@ -4,7 +4,9 @@
 #include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
 
+#include <cstdint>
 #include <fstream>
+#include <functional>
 
 #include "io/FileUtil.h"
 #include "vdbmap/Error.h"
@@ -24,29 +26,71 @@ public:
                  const openvdb::MetaMap& meta) const {
         Archive::write(os, grids, /*seekable=*/true, meta);
     }
+    /// The same archive with `count` grids made one at a time by `make(i)` and released once
+    /// written, so that only one decoded grid is in memory (Archive::write's steps for grids
+    /// of unique, non-empty names that share no tree).
+    void writeOneByOne(std::ostream& os, int count,
+                       const std::function<openvdb::GridBase::Ptr(int)>& make,
+                       const openvdb::MetaMap& meta) const {
+        openvdb::io::setDataCompression(os, compression());
+        openvdb::io::setWriteGridStatsMetadata(os, isGridStatsMetadataEnabled());
+        writeHeader(os, /*seekable=*/true);
+        meta.writeMeta(os);
+        const std::int32_t grids = count;
+        os.write(reinterpret_cast<const char*>(&grids), sizeof(grids));
+        for (int i = 0; i < count; ++i) {
+            const openvdb::GridBase::Ptr grid = make(i);
+            openvdb::io::GridDescriptor descriptor(grid->getName(), grid->type(),
+                                                   grid->saveFloatAsHalf());
+            writeGrid(descriptor, grid, os, /*seekable=*/true);
+            openvdb::io::setDataCompression(os, compression());
+        }
+    }
 };
 
 }  // namespace
 
-void writeMapVdb(const std::filesystem::path& path, const VoxelMap& map) {
-    openvdb::GridPtrVec grids;
-    // Plain float grids decoded from the packed TSDF; the names and classes are those of DATA.md.
-    openvdb::FloatGrid::Ptr surface = map.surfaceGrid();
-    surface->setSaveFloatAsHalf(false);
-    grids.push_back(surface);
-    grids.push_back(map.weightGrid());
-    // The adaptive truncation, once an integrator has finalized the map (it sets the metadata).
-    if (const auto eps_max = map.metadata().getMetadata<openvdb::DoubleMetadata>("truncation_max_m")) {
-        grids.push_back(map.truncationGrid(static_cast<float>(eps_max->value())));
+openvdb::GridBase::Ptr mapVdbGrid(const VoxelMap& map, int i) {
+    const auto eps_max = map.metadata().getMetadata<openvdb::DoubleMetadata>("truncation_max_m");
+    if (i == 0) {
+        // Plain float grids decoded from the packed TSDF; names and classes are DATA.md's.
+        openvdb::FloatGrid::Ptr surface = map.surfaceGrid();
+        surface->setSaveFloatAsHalf(false);
+        return surface;
     }
+    if (i == 1) return map.weightGrid();
+    if (eps_max && i == 2) return map.truncationGrid(static_cast<float>(eps_max->value()));
+    int k = i - (eps_max ? 3 : 2);
     for (const auto& [name, grid] : map.extraGrids()) {
-        openvdb::GridBase::Ptr g = grid->copyGrid();
+        if (k-- > 0) continue;
+        // A new grid object sharing the (unchanged) tree: only its name is set.
+        openvdb::GridBase::Ptr g = openvdb::ConstPtrCast<openvdb::GridBase>(grid->copyGrid());
         g->setName(name);
-        grids.push_back(g);
+        return g;
     }
+    return nullptr;
+}
+
+int mapVdbGridCount(const VoxelMap& map) {
+    const bool eps = map.metadata().getMetadata<openvdb::DoubleMetadata>("truncation_max_m") != nullptr;
+    return 2 + (eps ? 1 : 0) + static_cast<int>(map.extraGrids().size());
+}
+
+openvdb::GridPtrVec mapVdbGrids(const VoxelMap& map) {
+    openvdb::GridPtrVec grids;
+    for (int i = 0; i < mapVdbGridCount(map); ++i) grids.push_back(mapVdbGrid(map, i));
+    return grids;
+}
+
+openvdb::MetaMap mapVdbMetadata(const VoxelMap& map) {
     openvdb::MetaMap meta(map.metadata());
     meta.insertMeta("creator", openvdb::StringMetadata(std::string("vdbmap ") + versionString()));
     if (!meta["voxel_size_m"]) meta.insertMeta("voxel_size_m", openvdb::DoubleMetadata(map.voxelSize()));
+    return meta;
+}
+
+void writeVdbGrids(const std::filesystem::path& path, const openvdb::GridPtrVec& grids,
+                   const openvdb::MetaMap& meta) {
     AtomicFile out(path);
     std::ofstream stream = detail::openOutput(out.tempPath(), path);
     try {
@@ -56,6 +100,27 @@ void writeMapVdb(const std::filesystem::path& path, const VoxelMap& map) {
     }
     detail::closeOutput(stream, path);  // a full disk or a file-size limit is an IoError here
     out.commit();
+}
+
+void writeVdbGridsOneByOne(const std::filesystem::path& path, int count,
+                           const std::function<openvdb::GridBase::Ptr(int)>& make,
+                           const openvdb::MetaMap& meta) {
+    AtomicFile out(path);
+    std::ofstream stream = detail::openOutput(out.tempPath(), path);
+    try {
+        CheckedVdbWriter().writeOneByOne(stream, count, make, meta);
+    } catch (const openvdb::Exception& e) {
+        throw IoError("writeMapVdb: cannot write '" + path.string() + "': " + e.what());
+    }
+    detail::closeOutput(stream, path);  // a full disk or a file-size limit is an IoError here
+    out.commit();
+}
+
+void writeMapVdb(const std::filesystem::path& path, const VoxelMap& map) {
+    // One decoded grid at a time: at the end of a long drive they are the largest allocation.
+    writeVdbGridsOneByOne(
+        path, mapVdbGridCount(map), [&](int i) { return mapVdbGrid(map, i); },
+        mapVdbMetadata(map));
 }
 
 }  // namespace vdbmap

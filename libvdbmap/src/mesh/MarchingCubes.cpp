@@ -9,6 +9,7 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <tuple>
 #include <array>
 #include <vector>
 
@@ -89,6 +90,13 @@ std::vector<LeafMesh> meshLeaves(const VoxelMap& map, const MarchingCubesConfig&
                                     [&](const TsdfLeafView& l) { return !selection.mayTouch(l.origin); }),
                      leaves.end());
     }
+    // One order whichever store holds a leaf (a map still being integrated has dense and
+    // compact leaves): the face order, and so which face OpenMesh refuses at a complex edge,
+    // must not depend on it.
+    std::sort(leaves.begin(), leaves.end(), [](const TsdfLeafView& a, const TsdfLeafView& b) {
+        return std::make_tuple(a.origin.x(), a.origin.y(), a.origin.z()) <
+               std::make_tuple(b.origin.x(), b.origin.y(), b.origin.z());
+    });
     std::vector<LeafMesh> out(leaves.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size(), 4),
                       [&](const tbb::blocked_range<std::size_t>& r) {

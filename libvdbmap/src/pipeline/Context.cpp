@@ -2,6 +2,7 @@
 #include "vdbmap/pipeline/Context.h"
 
 #include <algorithm>
+#include <numeric>
 
 #include "vdbmap/Error.h"
 #include "vdbmap/io/AtomicFile.h"
@@ -9,6 +10,7 @@
 #include "vdbmap/map/VoxelMap.h"
 #include "vdbmap/mesh/TileFaces.h"
 #include "vdbmap/pipeline/Tiling.h"
+#include "pipeline/ScanStream.h"
 
 namespace vdbmap {
 
@@ -81,5 +83,24 @@ std::vector<View> Context::views(bool need_images, bool need_semantics) const {
 }
 
 std::vector<std::uint8_t> Context::haloFaces() const { return haloFaceMask(mesh()); }
+
+std::vector<std::size_t> Context::beginScanStream(double update_reach_m) {
+    if (stream_) return stream_->begin(dataset(), update_reach_m);
+    std::vector<std::size_t> all(dataset().numFrames());
+    std::iota(all.begin(), all.end(), std::size_t(0));
+    return all;
+}
+
+void Context::scanIntegrated(std::size_t frame) {
+    if (stream_) stream_->frameIntegrated(frame);
+}
+
+std::vector<std::size_t> Context::scanFrames() const {
+    if (tile_ && !tile_->scan_frames.empty()) return tile_->scan_frames;
+    if (!tile_ && stream_ && stream_->begun()) return stream_->frames();
+    std::vector<std::size_t> all(dataset().numFrames());
+    std::iota(all.begin(), all.end(), std::size_t(0));
+    return all;
+}
 
 }  // namespace vdbmap

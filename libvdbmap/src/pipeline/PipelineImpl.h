@@ -49,18 +49,12 @@ void writePipelineOutputs(class Context& ctx, const OutputConfig& output, Report
 
 /// Runs stage `index` (of `count`) in `ctx`: logs, times it into ctx.report()
 /// (stages.<name>.wall_time_s; `timings` gets an entry if given). `current` names it.
+/// `excluded_s` (if given) is a clock of time the stage spent on others' work (tiles a
+/// streaming stage finished): its growth during the stage is not the stage's time.
 void runStage(PipelineStage& ps, std::size_t index, std::size_t count, class Context& ctx,
-              std::string& current, std::string* timings_json);
+              std::string& current, std::string* timings_json,
+              const double* excluded_s = nullptr);
 
-/// The tiled part of a run: stages[first..] once per tile of ctx's map into
-/// <outputDir>/tiles/<ix>_<iy>/, each tile written and freed when done; per-tile and total
-/// figures go into `report` ("tiles", "tiling"). With tiling.merge (and few enough faces) the
-/// same stages then run once untiled in ctx. Returns the text of tiles.json, which the caller
-/// writes last. Errors are rethrown with "tile <ix>_<iy>: " in front, same type.
-std::string runTiledStages(std::vector<PipelineStage>& stages, std::size_t first,
-                           const TilingConfig& tiling, const std::string& tiling_where,
-                           const OutputConfig& output, class Context& ctx, Report& report,
-                           std::string& current);
 }  // namespace detail
 
 }  // namespace vdbmap

@@ -2,17 +2,22 @@
 #include <algorithm>
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <system_error>
 
 #include "io/OutputLock.h"
+#include "pipeline/MapGather.h"
 #include "pipeline/PipelineImpl.h"
+#include "pipeline/TileStream.h"
 #include "vdbmap/Error.h"
 #include "vdbmap/core/Log.h"
 #include "vdbmap/core/Timer.h"
 #include "vdbmap/io/AtomicFile.h"
-#include "vdbmap/pipeline/Context.h"
-#include "vdbmap/pipeline/Report.h"
 #include "vdbmap/map/Layers.h"
+#include "vdbmap/map/VoxelMap.h"
+#include "vdbmap/pipeline/Context.h"
+#include "vdbmap/pipeline/ProcessGroup.h"
+#include "vdbmap/pipeline/Report.h"
 
 namespace vdbmap {
 namespace fs = std::filesystem;
@@ -28,6 +33,15 @@ const char* errorKind(const std::exception& e) {
     return "std::exception";
 }
 
+/// Throws an error of the kind errorKind() named (how a failure reaches the other processes).
+[[noreturn]] void throwAs(const std::string& kind, const std::string& message) {
+    if (kind == "ConfigError") throw ConfigError(message);
+    if (kind == "PluginError") throw PluginError(message);
+    if (kind == "IoError") throw IoError(message);
+    if (kind == "InvalidInput") throw InvalidInput(message);
+    throw Error(message);
+}
+
 std::string formatSeconds(double s) {
     char buffer[32];
     std::snprintf(buffer, sizeof(buffer), "%.2f s", s);
@@ -39,28 +53,37 @@ std::string formatSeconds(double s) {
 namespace detail {
 
 void runStage(PipelineStage& ps, std::size_t index, std::size_t count, Context& ctx,
-              std::string& current, std::string* timings_json) {
+              std::string& current, std::string* timings_json, const double* excluded_s) {
     Stage& stage = *ps.stage;
     Report& report = ctx.report();
-    current = std::string(stage.name());
+    // `current` may change inside run() (a streaming stage finishes tiles); `name` does not.
+    const std::string name(stage.name());
+    current = name;
     const std::string where = ctx.hasTile() ? " [tile " + ctx.tile().name() + "]" : "";
-    logInfo("[" + std::to_string(index + 1) + "/" + std::to_string(count) + "] " + current + where);
+    logInfo("[" + std::to_string(index + 1) + "/" + std::to_string(count) + "] " + name + where);
+    const double excluded_before = excluded_s ? *excluded_s : 0.0;
     Timer timer;
+    // Time the stage spent running others' work (tiles finished inside a streaming stage).
+    auto own = [&] { return timer.elapsedSeconds() - (excluded_s ? *excluded_s - excluded_before : 0.0); };
     try {
         stage.run(ctx);
     } catch (...) {
-        report.set({"stages", current, "wall_time_s"}, timer.elapsedSeconds());
+        report.set({"stages", name, "wall_time_s"}, own());
         throw;
     }
-    const double seconds = timer.elapsedSeconds();
-    report.set({"stages", current, "wall_time_s"}, seconds);
+    current = name;
+    const double seconds = own();
+    report.set({"stages", name, "wall_time_s"}, seconds);
+    if (excluded_s && *excluded_s > excluded_before) {
+        report.set({"stages", name, "tiles_finished_inside_s"}, *excluded_s - excluded_before);
+    }
     if (timings_json) {
         nlohmann::json timings = nlohmann::json::parse(*timings_json);
-        timings.push_back({{"index", index}, {"stage", current}, {"wall_time_s", seconds}});
+        timings.push_back({{"index", index}, {"stage", name}, {"wall_time_s", seconds}});
         *timings_json = timings.dump();
         report.setJson({"timings", "stages"}, *timings_json);
     }
-    logInfo(current + where + " done in " + formatSeconds(seconds));
+    logInfo(name + where + " done in " + formatSeconds(seconds));
 }
 
 std::vector<std::string> datasetLayers(const Dataset& dataset) {
@@ -80,98 +103,327 @@ std::vector<std::string> datasetLayers(const Dataset& dataset) {
     return layers;
 }
 
-}  // namespace detail
+/// One process's part of Pipeline::run, phase by phase. Every process runs the same phases;
+/// agree() is where they learn of each other's failures, so that a failure anywhere fails
+/// every process with the first failing process's error, and no tiles.json is written.
+class PipelineRunner {
+public:
+    PipelineRunner(Pipeline::Impl& p, const Pipeline& pipeline, const fs::path& output_dir,
+                   Report& report, bool quiet, ProcessGroup& group)
+        : p_(p), pipeline_(pipeline), output_dir_(output_dir), report_(report), quiet_(quiet),
+          group_(group) {}
 
-void Pipeline::run(const fs::path& output_dir, Report& report, bool quiet) {
-    Impl& p = *impl_;
-    Timer total;
-    report.set({"status", "ok"}, false);
-    report.set({"status", "state"}, "running");
-
-    auto writeReport = [&] {
-        report.set({"peak_memory_bytes"}, peakMemoryBytes());
-        report.set({"timings", "total_s"}, total.elapsedSeconds());
-        if (p.output.write_report) report.write(output_dir / "report.json");
-    };
-
-    // Before anything is written: a second run on the same folder is refused here and must
-    // not overwrite the first one's report.json.
-    std::error_code dir_ec;
-    fs::create_directories(output_dir, dir_ec);
-    if (dir_ec || !fs::is_directory(output_dir)) {
-        throw IoError(output_dir.string() + ": cannot create the output folder: " +
-                      dir_ec.message());
-    }
-    const OutputLock lock(output_dir);
-    if (lock.staleFilesRemoved() > 0) {
-        logInfo("removed " + std::to_string(lock.staleFilesRemoved()) +
-                " temporary file(s) an interrupted run left in " + output_dir.string());
+    void run() {
+        report_.set({"status", "ok"}, false);
+        report_.set({"status", "state"}, "running");
+        guarded([&] { openOutput(); });
+        agree();
+        guarded([&] { compute(); });
+        agree();
+        guarded([&] { collect(); });
+        agree();
+        report_.set({"status", "state"}, "done");
+        report_.set({"status", "ok"}, true);
+        report_.set({"status", "exit_code"}, 0);
+        if (root()) writeReport();
     }
 
-    std::string current = "setup";
-    try {
-        reportVersions(report);
-        report.setJson({"config"}, resolvedConfigJson());
-        report.set({"output_dir"}, fs::absolute(output_dir).string());
-        Context ctx(output_dir, report, quiet);
-        if (p.has_dataset) {
-            current = "dataset";
-            Timer timer;
-            std::shared_ptr<Dataset> dataset = Dataset::open(p.dataset, p.base_dir);
-            checkLayers(detail::datasetLayers(*dataset));
-            report.set({"counts", "frames"}, dataset->numFrames());
-            report.set({"counts", "cameras"}, dataset->cameras().size());
-            // DATA.md: a missing image or semantic file is no error, but the run reports it.
-            report.set({"counts", "missing_images"}, dataset->missingImages());
-            report.set({"counts", "missing_semantic_images"}, dataset->missingSemantics());
-            for (std::size_t cam = 0; cam < dataset->cameras().size(); ++cam) {
-                report.set({"counts", "missing_images_per_camera", dataset->cameras()[cam].name},
-                           dataset->missingImages(cam));
-            }
-            report.set({"timings", "dataset_open_s"}, timer.elapsedSeconds());
-            ctx.setDataset(std::move(dataset));
+private:
+    bool root() const { return group_.rank() == 0; }
+    bool distributed() const { return group_.size() > 1; }
+
+    void writeReport() {
+        report_.set({"peak_memory_bytes"}, peakMemoryBytes());
+        report_.set({"timings", "total_s"}, total_.elapsedSeconds());
+        report_.set({"timings", "cpu_s"}, processCpuTimeS());
+        if (p_.output.write_report) report_.write(output_dir_ / "report.json");
+    }
+
+    /// Runs `phase`, keeping its exception for agree().
+    template <typename Phase>
+    void guarded(Phase&& phase) {
+        try {
+            phase();
+        } catch (const std::exception& e) {
+            failure_ = std::current_exception();
+            failure_json_ = nlohmann::json{{"kind", errorKind(e)},
+                                           {"message", e.what()},
+                                           {"at", current_},
+                                           {"exit_code", exitCodeFor(e)}}
+                                .dump();
         }
-        const bool tiled = p.tiling.enabled() && firstTiledStage() < p.stages.size();
-        if (p.tiling.enabled() && !tiled) {
-            logWarn("tiling: no stage works on the mesh layer; the run is not tiled");
+    }
+
+    /// Every process learns whether any failed. On a failure: the report gets the first
+    /// failing process's error (process 0 writes it), and every process throws: the failing
+    /// one its own exception, the others the same kind and message.
+    void agree() {
+        const std::vector<std::string> all =
+            distributed() ? group_.allGather(failure_json_) : std::vector<std::string>{failure_json_};
+        int first = -1;
+        for (std::size_t r = 0; r < all.size() && first < 0; ++r)
+            if (!all[r].empty()) first = static_cast<int>(r);
+        if (first < 0) return;
+        const nlohmann::json f = nlohmann::json::parse(all[static_cast<std::size_t>(first)]);
+        report_.set({"status", "state"}, "failed");
+        report_.set({"status", "error"}, f["message"].get<std::string>());
+        report_.set({"status", "error_type"}, f["kind"].get<std::string>());
+        report_.set({"status", "failed_at"}, f["at"].get<std::string>());
+        report_.set({"status", "exit_code"}, f["exit_code"].get<int>());
+        if (distributed()) report_.set({"status", "failed_process"}, first);
+        if (root()) {
+            if (distributed() && first != 0) {
+                logInfo("process " + std::to_string(first) + " failed: " +
+                        f["message"].get<std::string>());
+            }
+            try {
+                writeReport();
+            } catch (const std::exception& write_error) {
+                logError("could not write report.json: " + std::string(write_error.what()));
+            }
+        }
+        if (failure_) std::rethrow_exception(failure_);
+        throwAs(f["kind"].get<std::string>(), f["message"].get<std::string>());
+    }
+
+    /// Phase 1 (process 0): the output folder, its lock, no tiles.json of an earlier run.
+    void openOutput() {
+        if (!root()) return;
+        // Before anything is written: a second run on the same folder is refused here and
+        // must not overwrite the first one's report.json.
+        std::error_code dir_ec;
+        fs::create_directories(output_dir_, dir_ec);
+        if (dir_ec || !fs::is_directory(output_dir_)) {
+            throw IoError(output_dir_.string() + ": cannot create the output folder: " +
+                          dir_ec.message());
+        }
+        lock_.emplace(output_dir_);
+        if (lock_->staleFilesRemoved() > 0) {
+            logInfo("removed " + std::to_string(lock_->staleFilesRemoved()) +
+                    " temporary file(s) an interrupted run left in " + output_dir_.string());
         }
         // A tiles.json of an earlier run in this folder must not outlive a failure of this one.
         std::error_code rm_ec;
-        fs::remove(output_dir / "tiles.json", rm_ec);
-        const std::size_t untiled_end = tiled ? firstTiledStage() : p.stages.size();
+        fs::remove(output_dir_ / "tiles.json", rm_ec);
+    }
+
+    /// Phase 2: the dataset, the stages (tiles finished as the scans stream in), the rest of
+    /// the tiles, and (one process, merge: true) the untiled outputs.
+    void compute() {
+        current_ = "setup";
+        reportVersions(report_);
+        report_.setJson({"config"}, pipeline_.resolvedConfigJson());
+        report_.set({"output_dir"}, fs::absolute(output_dir_).string());
+        if (distributed()) {
+            report_.set({"distributed", "processes"}, group_.size());
+            report_.set({"distributed", "engine"}, "MPI");
+        }
+        ctx_.emplace(output_dir_, report_, quiet_);
+        if (p_.has_dataset) openDataset();
+        const bool tiled = p_.tiling.enabled() && pipeline_.firstTiledStage() < p_.stages.size();
+        if (p_.tiling.enabled() && !tiled) {
+            logWarn("tiling: no stage works on the mesh layer; the run is not tiled");
+        }
+        if (distributed() && !tiled) {
+            throw ConfigError(p_.source + ": a distributed run needs a tiling: section with "
+                              "tile_size_m > 0 and a stage that works on the mesh");
+        }
+        const std::size_t untiled_end = tiled ? pipeline_.firstTiledStage() : p_.stages.size();
+        if (tiled) startTileStream(untiled_end);
         std::string timings = "[]";
         for (std::size_t i = 0; i < untiled_end; ++i) {
-            detail::runStage(p.stages[i], i, p.stages.size(), ctx, current, &timings);
+            detail::runStage(p_.stages[i], i, p_.stages.size(), *ctx_, current_, &timings,
+                             &tile_seconds_);
         }
-        std::string tiles_json;
         if (tiled) {
-            tiles_json = detail::runTiledStages(p.stages, untiled_end, p.tiling, p.tiling_where,
-                                                p.output, ctx, report, current);
+            current_ = "tiling";
+            stream_->finishAll();
+            current_ = "tiling";
+            if (p_.tiling.merge) mergeUntiled(untiled_end);
         }
-        current = "output";
-        detail::writePipelineOutputs(ctx, p.output, report);
-        if (tiled) {
-            // Last: the index appears only once every file it names is written.
-            writeFileAtomically(output_dir / "tiles.json", tiles_json);
-            report.set({"outputs", "tiles_index"}, (output_dir / "tiles.json").string());
-        }
-    } catch (const std::exception& e) {
-        report.set({"status", "state"}, "failed");
-        report.set({"status", "error"}, std::string(e.what()));
-        report.set({"status", "error_type"}, errorKind(e));
-        report.set({"status", "failed_at"}, current);
-        report.set({"status", "exit_code"}, exitCodeFor(e));
-        try {
-            writeReport();
-        } catch (const std::exception& write_error) {
-            logError("could not write report.json: " + std::string(write_error.what()));
-        }
-        throw;
     }
-    report.set({"status", "state"}, "done");
-    report.set({"status", "ok"}, true);
-    report.set({"status", "exit_code"}, 0);
-    writeReport();
+
+    void openDataset() {
+        current_ = "dataset";
+        Timer timer;
+        std::shared_ptr<Dataset> dataset = Dataset::open(p_.dataset, p_.base_dir);
+        pipeline_.checkLayers(detail::datasetLayers(*dataset));
+        report_.set({"counts", "frames"}, dataset->numFrames());
+        report_.set({"counts", "cameras"}, dataset->cameras().size());
+        // DATA.md: a missing image or semantic file is no error, but the run reports it.
+        report_.set({"counts", "missing_images"}, dataset->missingImages());
+        report_.set({"counts", "missing_semantic_images"}, dataset->missingSemantics());
+        for (std::size_t cam = 0; cam < dataset->cameras().size(); ++cam) {
+            report_.set({"counts", "missing_images_per_camera", dataset->cameras()[cam].name},
+                        dataset->missingImages(cam));
+        }
+        report_.set({"timings", "dataset_open_s"}, timer.elapsedSeconds());
+        ctx_->setDataset(std::move(dataset));
+    }
+
+    void startTileStream(std::size_t first_tiled) {
+        TileStream::Setup setup;
+        setup.stages = &p_.stages;
+        setup.first = first_tiled;
+        setup.tiling = &p_.tiling;
+        setup.tiling_where = &p_.tiling_where;
+        setup.output = &p_.output;
+        setup.ctx = &*ctx_;
+        setup.current = &current_;
+        setup.process = group_.rank();
+        setup.processes = group_.size();
+        setup.tile_seconds = &tile_seconds_;
+        stream_ = std::make_shared<TileStream>(setup);
+        ctx_->setScanStream(stream_);
+    }
+
+    void mergeUntiled(std::size_t first_tiled) {
+        std::size_t faces = 0;
+        for (const auto& o : stream_->outcomes()) faces += o.faces;
+        if (distributed()) {
+            logWarn("tiling: merge skipped: a distributed run has no process with the whole map");
+            report_.set({"tiling", "merged"}, false);
+        } else if (faces > static_cast<std::size_t>(p_.tiling.merge_max_faces)) {
+            logWarn("tiling: merge skipped: " + std::to_string(faces) +
+                    " faces over all tiles exceed merge_max_faces = " +
+                    std::to_string(p_.tiling.merge_max_faces));
+            report_.set({"tiling", "merged"}, false);
+        } else {
+            // Today's single outputs: the same stages once on the whole map.
+            for (std::size_t i = first_tiled; i < p_.stages.size(); ++i) {
+                detail::runStage(p_.stages[i], i, p_.stages.size(), *ctx_, current_, nullptr,
+                                 nullptr);
+            }
+            report_.set({"tiling", "merged"}, true);
+        }
+        ctx_->setScanStream(nullptr);
+    }
+
+    /// Phase 3: process 0 gathers the tiles and the map parts, writes map.vdb (and mesh.ply),
+    /// then tiles.json, last.
+    void collect() {
+        current_ = "output";
+        const nlohmann::json mine = processSummary();
+        const std::vector<std::string> all =
+            distributed() ? group_.allGather(mine.dump()) : std::vector<std::string>{mine.dump()};
+        gatherMap();
+        if (!root()) return;
+        std::vector<TileOutcome> outcomes;
+        TileSummary summary;
+        nlohmann::json processes = nlohmann::json::array();
+        for (const std::string& text : all) {
+            nlohmann::json s = nlohmann::json::parse(text);
+            for (const auto& o : s["outcomes"]) {
+                TileOutcome t;
+                t.name = o["name"];
+                t.ix = o["ix"];
+                t.iy = o["iy"];
+                t.faces = o["faces"];
+                t.halo_faces = o["halo_faces"];
+                t.index_json = o["index"];
+                t.report_json = o["report"];
+                t.empty = false;
+                outcomes.push_back(std::move(t));
+            }
+            summary.without_faces += s["tiles_without_faces"].get<std::size_t>();
+            summary.without_leaves += s["planned_tiles_without_leaves"].get<std::size_t>();
+            summary.planned = s["planned_tiles"];
+            s.erase("outcomes");
+            processes.push_back(s);
+        }
+        if (distributed()) report_.setJson({"distributed", "process"}, processes.dump());
+        if (!distributed()) detail::writePipelineOutputs(*ctx_, p_.output, report_);
+        if (stream_) {
+            const std::string index =
+                tilesIndex(std::move(outcomes), summary, stream_->grid(), p_.tiling, report_);
+            // Last: the index appears only once every file it names is written.
+            writeFileAtomically(output_dir_ / "tiles.json", index);
+            report_.set({"outputs", "tiles_index"}, (output_dir_ / "tiles.json").string());
+        }
+    }
+
+    /// What this process tells process 0: its finished tiles and its figures.
+    nlohmann::json processSummary() const {
+        nlohmann::json s;
+        s["process"] = group_.rank();
+        s["outcomes"] = nlohmann::json::array();
+        s["tiles_without_faces"] = stream_ ? stream_->tilesWithoutFaces() : 0;
+        s["planned_tiles_without_leaves"] = stream_ ? stream_->tilesWithoutLeaves() : 0;
+        s["planned_tiles"] = stream_ && stream_->begun() ? stream_->plan().tiles.size() : 0;
+        s["tiles"] = stream_ ? stream_->outcomes().size() : 0;
+        s["frames_integrated"] = stream_ && stream_->begun() ? stream_->frames().size() : 0;
+        s["tiles_s"] = tile_seconds_;
+        s["cpu_time_s"] = processCpuTimeS();
+        s["wall_time_s"] = total_.elapsedSeconds();
+        s["peak_memory_bytes"] = peakMemoryBytes();
+        if (stream_) {
+            for (const TileOutcome& o : stream_->outcomes()) {
+                s["outcomes"].push_back({{"name", o.name},
+                                         {"ix", o.ix},
+                                         {"iy", o.iy},
+                                         {"faces", o.faces},
+                                         {"halo_faces", o.halo_faces},
+                                         {"index", o.index_json},
+                                         {"report", o.report_json}});
+            }
+        }
+        return s;
+    }
+
+    /// Distributed runs: every process sends the leaves of its own tiles, process 0 merges
+    /// them and writes the one map.vdb.
+    void gatherMap() {
+        if (!distributed() || !p_.output.write_map) return;
+        std::string part;
+        if (ctx_ && ctx_->hasMap() && stream_ && stream_->begun()) {
+            const TilePlan& plan = stream_->plan();
+            const int me = group_.rank();
+            std::size_t dropped = 0;
+            part = detail::mapPart(ctx_->map(), stream_->grid(),
+                                   [&](int ix, int iy) {
+                                       const PlannedTile* t = plan.find(ix, iy);
+                                       return t != nullptr && t->process == me;
+                                   },
+                                   &dropped);
+        }
+        MapAssembler assembler;
+        group_.gatherToRoot(std::move(part), [&](int, std::string&& bytes) {
+            if (!bytes.empty()) assembler.add(std::move(bytes));
+        });
+        if (!root() || assembler.empty()) return;
+        const fs::path path = output_dir_ / "map.vdb";
+        assembler.write(path);
+        report_.set({"counts", "active_voxels"}, assembler.activeVoxels());
+        report_.set({"counts", "voxel_size_m"}, ctx_->map().voxelSize());
+        report_.set({"outputs", "map"}, path.string());
+        logInfo("wrote " + path.string());
+    }
+
+    Pipeline::Impl& p_;
+    const Pipeline& pipeline_;
+    const fs::path output_dir_;
+    Report& report_;
+    const bool quiet_;
+    ProcessGroup& group_;
+    Timer total_;
+    std::optional<OutputLock> lock_;
+    std::optional<Context> ctx_;
+    std::shared_ptr<TileStream> stream_;
+    double tile_seconds_ = 0.0;
+    std::string current_ = "setup";
+    std::exception_ptr failure_;
+    std::string failure_json_;
+};
+
+}  // namespace detail
+
+void Pipeline::run(const fs::path& output_dir, Report& report, bool quiet) {
+    LocalProcessGroup local;
+    run(output_dir, report, quiet, local);
+}
+
+void Pipeline::run(const fs::path& output_dir, Report& report, bool quiet, ProcessGroup& group) {
+    detail::PipelineRunner(*impl_, *this, output_dir, report, quiet, group).run();
 }
 
 }  // namespace vdbmap

@@ -4,8 +4,9 @@
 
 #include <algorithm>
 #include <system_error>
+#include <tuple>
 
-#include "pipeline/PipelineImpl.h"
+#include "pipeline/TileStream.h"
 #include "vdbmap/Error.h"
 #include "vdbmap/core/Log.h"
 #include "vdbmap/core/Progress.h"
@@ -20,9 +21,13 @@ namespace vdbmap::detail {
 namespace fs = std::filesystem;
 namespace {
 
-/// Rethrows `e` as the same error type with the tile named in front.
-[[noreturn]] void rethrowInTile(const std::exception& e, const std::string& tile) {
-    const std::string msg = "tile " + tile + ": " + e.what();
+/// Rethrows `e` as the same error type with the tile and the stage (unless the message
+/// already starts with it) named in front: "tile 3_-1: semantic.mrf: ...".
+[[noreturn]] void rethrowInTile(const std::exception& e, const std::string& tile,
+                                const std::string& stage) {
+    const std::string what = e.what();
+    const bool named = stage.empty() || what.rfind(stage + ":", 0) == 0;
+    const std::string msg = "tile " + tile + ": " + (named ? "" : stage + ": ") + what;
     if (dynamic_cast<const ConfigError*>(&e)) throw ConfigError(msg);
     if (dynamic_cast<const PluginError*>(&e)) throw PluginError(msg);
     if (dynamic_cast<const IoError*>(&e)) throw IoError(msg);
@@ -53,25 +58,23 @@ std::size_t coreFaceCount(const Context& ctx) {
 }
 
 /// What one finished tile leaves behind: its index entry and its report entry.
-struct TileOutcome {
-    bool empty = true;  ///< no core face: nothing written, not in the index
-    nlohmann::json index;
-    nlohmann::json report;
-    std::size_t faces = 0, halo_faces = 0;
-};
-
-/// Runs stages[first..] on one tile, writes its core mesh, frees everything but the figures.
-TileOutcome runTile(std::vector<PipelineStage>& stages, std::size_t first,
-                    const OutputConfig& output, Context& ctx,
-                    const std::shared_ptr<const Tile>& tile, std::string& current) {
+/// runTile without the error prefix.
+TileOutcome runTileStages(std::vector<PipelineStage>& stages, std::size_t first,
+                          const OutputConfig& output, Context& ctx,
+                          const std::shared_ptr<const Tile>& tile, long finished_after_frame,
+                          std::string& current) {
     const fs::path dir = ctx.outputDir() / "tiles" / tile->name();
     std::error_code ec;
     fs::create_directories(dir, ec);
     if (ec) throw IoError(dir.string() + ": cannot create the tile folder: " + ec.message());
     resetPeakMemoryWindow();
     Timer timer;
+    const double cpu_before = processCpuTimeS();
     Report tile_report;
     TileOutcome out;
+    out.name = tile->name();
+    out.ix = tile->ix;
+    out.iy = tile->iy;
     {
         std::unique_ptr<Context> tctx = ctx.tileContext(dir, tile_report, tile);
         for (std::size_t i = first; i < stages.size(); ++i) {
@@ -94,8 +97,9 @@ TileOutcome runTile(std::vector<PipelineStage>& stages, std::size_t first,
         return out;
     }
     const double seconds = timer.elapsedSeconds();
+    const double cpu_seconds = processCpuTimeS() - cpu_before;
     const nlohmann::json stage_figures = nlohmann::json::parse(tile_report.getJson({"stages"}));
-    out.index = {{"name", tile->name()},
+    const nlohmann::json index = {{"name", tile->name()},
                  {"ix", tile->ix},
                  {"iy", tile->iy},
                  {"bounds_W", boxJson(tile->core_W)},
@@ -106,102 +110,93 @@ TileOutcome runTile(std::vector<PipelineStage>& stages, std::size_t first,
                    {"halo_faces", out.halo_faces},
                    {"views", tile->views.size()},
                    {"frames", tile->numFrames()}}}};
-    out.report = {{"frames", tile->numFrames()}, {"views", tile->views.size()},
-                  {"faces", out.faces},          {"halo_faces", out.halo_faces},
-                  {"wall_time_s", seconds},      {"peak_memory_bytes", windowPeakMemoryBytes()},
-                  {"stages", stage_figures}};
+    const nlohmann::json report = {{"frames", tile->numFrames()},
+                                   {"scan_frames", tile->scan_frames.size()},
+                                   {"views", tile->views.size()},
+                                   {"faces", out.faces},
+                                   {"halo_faces", out.halo_faces},
+                                   {"finished_after_frame", finished_after_frame},
+                                   {"wall_time_s", seconds},
+                                   {"cpu_time_s", cpu_seconds},
+                                   {"peak_memory_bytes", windowPeakMemoryBytes()},
+                                   {"stages", stage_figures}};
+    out.index_json = index.dump();
+    out.report_json = report.dump();
     return out;
 }
 
 }  // namespace
 
-std::string runTiledStages(std::vector<PipelineStage>& stages, std::size_t first,
-                           const TilingConfig& tiling, const std::string& tiling_where,
-                           const OutputConfig& output, Context& ctx, Report& report,
-                           std::string& current) {
-    current = "tiling";
-    const VoxelMap& map = ctx.map();
-    tiling.validate(map.voxelSize(), tiling_where);
-    const int up_axis =
-        TileGrid::resolveUpAxis(tiling, ctx.hasDataset() ? &ctx.dataset() : nullptr);
-    const TileGrid grid(tiling, map.voxelSize(), up_axis);
-    std::vector<Tile> tiles = grid.tilesOf(map);
-    if (ctx.hasDataset()) TileGrid::assignViews(tiles, ctx.dataset(), tiling.max_view_distance_m);
-    logInfo("tiling: " + std::to_string(tiles.size()) + " tiles of " +
-            std::to_string(grid.tileSizeM()) + " m, halo " + std::to_string(grid.haloM()) + " m");
+TileOutcome runTile(std::vector<PipelineStage>& stages, std::size_t first,
+                    const OutputConfig& output, Context& ctx,
+                    const std::shared_ptr<const Tile>& tile, long finished_after_frame,
+                    std::string& current) {
+    try {
+        return runTileStages(stages, first, output, ctx, tile, finished_after_frame, current);
+    } catch (const std::exception& e) {
+        const std::string stage = current;
+        current = "tile " + tile->name() + " / " + current;
+        rethrowInTile(e, tile->name(), stage);
+    }
+}
 
+std::string tilesIndex(std::vector<TileOutcome> outcomes, const TileSummary& summary,
+                       const TileGrid& grid, const TilingConfig& tiling, Report& report) {
+    // The index does not depend on the order tiles were finished in (or on which process).
+    std::sort(outcomes.begin(), outcomes.end(), [](const TileOutcome& a, const TileOutcome& b) {
+        return std::tie(a.iy, a.ix) < std::tie(b.iy, b.ix);
+    });
     nlohmann::json index_tiles = nlohmann::json::array();
     nlohmann::json report_tiles = nlohmann::json::object();
     nlohmann::json stage_totals = nlohmann::json::object();
-    std::size_t faces = 0, halo_faces = 0, empty = 0, peak_tile = 0;
-    for (Tile& t : tiles) {
-        const auto tile = std::make_shared<const Tile>(std::move(t));
-        TileOutcome outcome;
-        try {
-            outcome = runTile(stages, first, output, ctx, tile, current);
-        } catch (const std::exception& e) {
-            current = "tile " + tile->name() + " / " + current;
-            rethrowInTile(e, tile->name());
-        }
-        if (outcome.empty) {
-            ++empty;
-            continue;
-        }
+    std::size_t faces = 0, halo_faces = 0, peak_tile = 0;
+    double cpu_s = 0.0;
+    for (const TileOutcome& outcome : outcomes) {
+        const nlohmann::json tile_report = nlohmann::json::parse(outcome.report_json);
+        cpu_s += tile_report.value("cpu_time_s", 0.0);
         faces += outcome.faces;
         halo_faces += outcome.halo_faces;
-        peak_tile = std::max<std::size_t>(peak_tile, outcome.report["peak_memory_bytes"]);
-        for (const auto& [stage, figures] : outcome.report["stages"].items()) {
+        peak_tile = std::max<std::size_t>(peak_tile, tile_report["peak_memory_bytes"]);
+        for (const auto& [stage, figures] : tile_report["stages"].items()) {
             if (!figures.contains("wall_time_s")) continue;
             const double s = figures["wall_time_s"];
             const double before =
                 stage_totals.contains(stage) ? stage_totals[stage]["wall_time_s"].get<double>() : 0.0;
             stage_totals[stage]["wall_time_s"] = before + s;
         }
-        report_tiles[tile->name()] = outcome.report;
-        index_tiles.push_back(outcome.index);
+        report_tiles[outcome.name] = tile_report;
+        index_tiles.push_back(nlohmann::json::parse(outcome.index_json));
     }
-    tiles.clear();
-    current = "tiling";
     report.setJson({"tiles"}, report_tiles.dump());
     report.set({"tiling", "tiles"}, index_tiles.size());
-    report.set({"tiling", "tiles_without_faces"}, empty);
+    report.set({"tiling", "tiles_without_faces"}, summary.without_faces);
+    report.set({"tiling", "planned_tiles"}, summary.planned);
+    report.set({"tiling", "planned_tiles_without_leaves"}, summary.without_leaves);
+    report.set({"tiling", "stream"}, tiling.stream);
     report.set({"tiling", "tile_size_m"}, grid.tileSizeM());
     report.set({"tiling", "halo_m"}, grid.haloM());
     report.set({"tiling", "faces"}, faces);
     report.set({"tiling", "halo_faces"}, halo_faces);
     report.set({"tiling", "max_tile_peak_memory_bytes"}, peak_tile);
+    report.set({"tiling", "cpu_time_s"}, cpu_s);
     report.setJson({"tiling", "stages"}, stage_totals.dump());
-
-    if (tiling.merge) {
-        if (faces > static_cast<std::size_t>(tiling.merge_max_faces)) {
-            logWarn("tiling: merge skipped: " + std::to_string(faces) +
-                    " faces over all tiles exceed merge_max_faces = " +
-                    std::to_string(tiling.merge_max_faces));
-            report.set({"tiling", "merged"}, false);
-        } else {
-            // Today's single outputs: the same stages once on the whole map.
-            for (std::size_t i = first; i < stages.size(); ++i) {
-                runStage(stages[i], i, stages.size(), ctx, current, nullptr);
-            }
-            report.set({"tiling", "merged"}, true);
-        }
-    }
 
     nlohmann::json index;
     index["format"] = "vdbmap-tiles";
     index["version"] = 1;
     index["frame"] = "W";
     index["units"] = "m";
-    index["voxel_size_m"] = map.voxelSize();
+    index["voxel_size_m"] = grid.voxelSize();
     index["tile_size_m"] = grid.tileSizeM();
     index["halo_m"] = grid.haloM();
     const char* axis_names[3] = {"x", "y", "z"};
+    const int up_axis = grid.upAxis();
     index["up_axis"] = axis_names[up_axis];
     report.set({"tiling", "up_axis"}, axis_names[up_axis]);
     index["max_view_distance_m"] = tiling.max_view_distance_m;
     index["tile_key"] = std::string("<ix>_<iy>: tile (ix, iy) covers [ix, ix + 1) x [iy, iy + 1) ") +
-                        "tile sizes along the ground axes " + axis_names[up_axis == 0 ? 1 : 0] +
-                        ", " + axis_names[up_axis == 2 ? 1 : 2];
+                        "tile sizes along the ground axes " + axis_names[grid.groundAxis(0)] +
+                        ", " + axis_names[grid.groundAxis(1)];
     index["tiles"] = index_tiles;
     index["counts"] = {{"tiles", index_tiles.size()}, {"faces", faces}, {"halo_faces", halo_faces}};
     return index.dump(2);

@@ -37,8 +37,10 @@ void TilingConfig::declareOptions(OptionSpec& spec) {
     spec.add("halo_m", "Border of neighbouring mesh each tile sees (MRFs, seams) but does not write",
              halo_m, 4.0, "m");
     spec.add("max_view_distance_m",
-             "A view is given to a tile only if the tile lies within this distance of the camera",
-             max_view_distance_m, 60.0, "m");
+             "A view is given to a tile only if its frustum meets the tile's box within this "
+             "depth (camera z); at least the texture and semantic stages' max_depth_m (40 m), "
+             "so that no view that can see a face of the tile is left out",
+             max_view_distance_m, 40.0, "m");
     spec.add("occluder_margin_m",
              "Mesh this far around a tile is an occluder in its visibility tests (never written; "
              "0 or less than halo_m = the halo only)",
@@ -49,6 +51,11 @@ void TilingConfig::declareOptions(OptionSpec& spec) {
              merge, false);
     spec.add("merge_max_faces", "Largest mesh (faces over all tiles) merge still writes",
              merge_max_faces, std::int64_t(4000000));
+    spec.add("stream",
+             "Finish (mesh, texture, label, write, free) each tile as soon as no later scan or "
+             "view can change it, while the scans are still read; false = all tiles after the "
+             "last scan (same outputs)",
+             stream, true);
     spec.add("up_axis",
              "World axis pointing up (tiles cut the other two): auto (the W axis closest to the "
              "LiDAR z axis of the first frame), x, y or z",
@@ -114,7 +121,7 @@ TileGrid::TileGrid(const TilingConfig& config, double voxel_size_m, int up_axis)
                                             std::ceil(config.occluder_margin_m / voxel_size_m - 1e-9)));
 }
 
-Tile TileGrid::makeTile(int ix, int iy, double z_min_m, double z_max_m) const {
+Tile TileGrid::tile(int ix, int iy) const {
     Tile t;
     t.ix = ix;
     t.iy = iy;
@@ -132,8 +139,6 @@ Tile TileGrid::makeTile(int ix, int iy, double z_min_m, double z_max_m) const {
     // A cube with min corner c spans [c, c + 1] voxels, the voxel centres being at c * vs.
     const double vs = voxel_size_m_;
     const double h = halo_vox_ * vs;
-    t.core_W.min_W[up_axis_] = t.halo_W.min_W[up_axis_] = z_min_m;
-    t.core_W.max_W[up_axis_] = t.halo_W.max_W[up_axis_] = z_max_m;
     for (int k = 0; k < 2; ++k) {
         t.core_W.min_W[axes_[k]] = t.region.core_min[k] * vs;
         t.core_W.max_W[axes_[k]] = t.region.core_max[k] * vs;
@@ -143,22 +148,39 @@ Tile TileGrid::makeTile(int ix, int iy, double z_min_m, double z_max_m) const {
     return t;
 }
 
+bool TileGrid::fitToMap(Tile& t, const VoxelMap& map) const {
+    const MeshRegion& r = t.region;
+    std::int32_t up_min = 0, up_max = 0;
+    bool any = false, in_core = false;
+    for (const TsdfLeafView& leaf : map.leafViews()) {
+        const std::int32_t a = leaf.origin[axes_[0]], b = leaf.origin[axes_[1]];
+        // Leaves overlapping the halo region [core_min - halo, core_max + halo) on both axes.
+        if (a + kLeafVoxels <= r.core_min[0] - r.halo_vox || a >= r.core_max[0] + r.halo_vox ||
+            b + kLeafVoxels <= r.core_min[1] - r.halo_vox || b >= r.core_max[1] + r.halo_vox) {
+            continue;
+        }
+        in_core = in_core || r.inCore(a, b);  // tile edges are whole leaves
+        const std::int32_t up = leaf.origin[up_axis_];
+        up_min = any ? std::min(up_min, up) : up;
+        up_max = any ? std::max(up_max, up + kLeafVoxels) : up + kLeafVoxels;
+        any = true;
+    }
+    t.core_W.min_W[up_axis_] = t.halo_W.min_W[up_axis_] = up_min * voxel_size_m_;
+    t.core_W.max_W[up_axis_] = t.halo_W.max_W[up_axis_] = up_max * voxel_size_m_;
+    return in_core;
+}
+
 std::vector<Tile> TileGrid::tilesOf(const VoxelMap& map) const {
     std::set<std::pair<int, int>> keys;  // (iy, ix)
-    std::int32_t z_min = 0, z_max = 0;
-    bool first = true;
     for (const TsdfLeafView& leaf : map.leafViews()) {
         // A leaf lies in one tile: tile edges are whole leaves.
         keys.insert({floorDiv(leaf.origin[axes_[1]], tile_vox_),
                      floorDiv(leaf.origin[axes_[0]], tile_vox_)});
-        const std::int32_t up = leaf.origin[up_axis_];
-        z_min = first ? up : std::min(z_min, up);
-        z_max = first ? up + kLeafVoxels : std::max(z_max, up + kLeafVoxels);
-        first = false;
     }
     std::vector<Tile> tiles;
     for (const auto& [iy, ix] : keys) {
-        tiles.push_back(makeTile(ix, iy, z_min * voxel_size_m_, z_max * voxel_size_m_));
+        tiles.push_back(tile(ix, iy));
+        fitToMap(tiles.back(), map);
     }
     return tiles;
 }
@@ -166,12 +188,15 @@ std::vector<Tile> TileGrid::tilesOf(const VoxelMap& map) const {
 void TileGrid::assignViews(std::vector<Tile>& tiles, const Dataset& dataset,
                            double max_view_distance_m) {
     const std::vector<View> views = datasetViews(dataset, false, false);
-    for (Tile& tile : tiles) {
-        tile.views.clear();
-        for (const View& view : views) {
-            if (viewMaySeeBox(view, tile.halo_W, 0.0, max_view_distance_m)) {
-                tile.views.emplace_back(view.frame, view.camera);
-            }
+    for (Tile& tile : tiles) assignViews(tile, views, max_view_distance_m);
+}
+
+void TileGrid::assignViews(Tile& tile, const std::vector<View>& views,
+                           double max_view_distance_m) {
+    tile.views.clear();
+    for (const View& view : views) {
+        if (viewFrustumMeetsBox(view, tile.halo_W, 0.0, max_view_distance_m)) {
+            tile.views.emplace_back(view.frame, view.camera);
         }
     }
 }

@@ -14,6 +14,11 @@ double viewDistanceToBox(const View& view, const Box3d& box) {
 
 bool viewMaySeeBox(const View& view, const Box3d& box, double min_depth_m, double max_depth_m) {
     if (viewDistanceToBox(view, box) > max_depth_m) return false;
+    return viewFrustumMeetsBox(view, box, min_depth_m, max_depth_m);
+}
+
+bool viewFrustumMeetsBox(const View& view, const Box3d& box, double min_depth_m,
+                         double max_depth_m) {
     std::array<Eigen::Vector3d, 8> corners_C;
     for (int k = 0; k < 8; ++k) {
         const Eigen::Vector3d p_W((k & 1) ? box.max_W.x() : box.min_W.x(),

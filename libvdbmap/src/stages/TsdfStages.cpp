@@ -173,16 +173,25 @@ public:
         auto map = std::make_shared<VoxelMap>(voxel_size_m_, static_cast<float>(config_.truncation.max_m),
                                               static_cast<float>(max_weight_));
         AtsdfIntegrator integrator(*map, config_);
+        // Streamed tiled runs finish tiles from this map while the scans come in; a scan
+        // changes it at most maxHalfLength past a point, plus the block statistics a point
+        // reads (its block and their 26 neighbours: within 3.5 leaves of the point).
+        ctx.setMap(map);
+        const double leaf_m = 8.0 * voxel_size_m_;
+        const std::vector<std::size_t> frames =
+            ctx.beginScanStream(maxHalfLength(config_.truncation) + 4.0 * leaf_m);
         DatasetIntegration run;
         {
             // Scan i + 1 is read while scan i is integrated (integrateDataset).
-            Progress progress("integrate.atsdf", dataset.numFrames(), ctx.quiet());
-            run = integrateDataset(dataset, integrator, [&progress] { progress.tick(); });
+            Progress progress("integrate.atsdf", frames.size(), ctx.quiet());
+            run = integrateDataset(dataset, integrator, frames, [&](std::size_t frame) {
+                progress.tick();
+                ctx.scanIntegrated(frame);
+            });
         }
         const ScanReadStats& read_total = run.read;
-        const double seconds = run.seconds;
+        const double seconds = run.seconds - run.on_scan_s;
         integrator.finalize();
-        ctx.setMap(map);
 
         const IntegrationStats& t = integrator.totals();
         const std::string s(name());

@@ -11,6 +11,9 @@ enum class LogLevel { Debug, Info, Warn, Error, Off };
 /// Sets the process-wide log level. The apps set it once from --quiet / --verbose.
 void setLogLevel(LogLevel level);
 LogLevel logLevel();
+/// Text put in front of every message (after the level), e.g. "rank 2: " in the processes of
+/// a distributed run. '%' is not allowed (spdlog pattern syntax) and is dropped.
+void setLogPrefix(const std::string& prefix);
 
 /// Thread-safe log lines to stderr, prefixed with the level.
 void logDebug(const std::string& message);

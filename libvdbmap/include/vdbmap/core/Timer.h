@@ -31,4 +31,8 @@ bool resetPeakMemoryWindow();
 /// Peak resident set size since the last resetPeakMemoryWindow() (the whole run before one).
 std::size_t windowPeakMemoryBytes();
 
+/// User + system CPU time of this process so far (all threads), seconds (getrusage). Unlike
+/// wall time it does not grow when other processes share the machine.
+double processCpuTimeS();
+
 }  // namespace vdbmap

@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <functional>
+#include <vector>
 
 #include "vdbmap/io/Dataset.h"
 
@@ -15,13 +16,20 @@ struct DatasetIntegration {
     ScanReadStats read;      ///< summed over the scans
     double seconds = 0.0;    ///< wall time of the whole loop, reading included
     double read_wait_s = 0.0;  ///< of which waiting for a scan that was not read yet
+    double on_scan_s = 0.0;    ///< of which in `on_scan` (not integration: progress, tiles)
 };
 
-/// The scan loop of integrate.atsdf: every frame of `dataset` in order, in the LiDAR frame with
-/// its pose T_W_L. With `read_ahead`, scan i + 1 is read and filtered on another thread while
-/// scan i is integrated (reading overlaps integration; at most one scan in flight). Calls
-/// `on_scan` after each scan (progress). A read error is rethrown as thrown by
-/// Dataset::loadScan, after the scans before it were integrated.
+/// The scan loop of integrate.atsdf: the frames `frames` of `dataset` (ascending indices) in
+/// order, in the LiDAR frame with its pose T_W_L. With `read_ahead`, the next scan is read and
+/// filtered on another thread while one is integrated (reading overlaps integration and
+/// `on_scan`; at most one scan in flight). Calls `on_scan(frame)` after each scan (progress,
+/// streamed tiles). A read error is rethrown as thrown by Dataset::loadScan, after the scans
+/// before it were integrated. Throws std::out_of_range for a frame past the dataset.
+DatasetIntegration integrateDataset(const Dataset& dataset, AtsdfIntegrator& integrator,
+                                    const std::vector<std::size_t>& frames,
+                                    const std::function<void(std::size_t)>& on_scan = {},
+                                    bool read_ahead = true);
+/// The same over every frame of `dataset`.
 DatasetIntegration integrateDataset(const Dataset& dataset, AtsdfIntegrator& integrator,
                                     const std::function<void()>& on_scan = {}, bool read_ahead = true);
 

@@ -41,10 +41,13 @@ public:
     VoxelMap& operator=(const VoxelMap&) = delete;
 
     double voxelSize() const { return voxel_size_m_; }
-    openvdb::math::Transform::Ptr transform() const { return transform_; }
+    /// Const accessors hand out const pointers only (stages get a const map in tiles).
+    openvdb::math::Transform::ConstPtr transform() const { return transform_; }
+    openvdb::math::Transform::Ptr transform() { return transform_; }
 
     /// The working tree of dense packed leaves, the compact store, and the codec.
-    TsdfGrid::Ptr workingTsdf() const { return tsdf_; }
+    TsdfGrid::ConstPtr workingTsdf() const { return tsdf_; }
+    TsdfGrid::Ptr workingTsdf() { return tsdf_; }
     const CompactTsdf& compactTsdf() const { return *compact_; }
     CompactTsdf& compactTsdf() { return *compact_; }
     const TsdfCodec& codec() const { return codec_; }
@@ -98,7 +101,9 @@ public:
 
     /// Further grids saved into map.vdb. The name is the grid name in the file.
     void setExtraGrid(const std::string& name, openvdb::GridBase::Ptr grid);
-    const std::map<std::string, openvdb::GridBase::Ptr>& extraGrids() const { return extra_; }
+    std::map<std::string, openvdb::GridBase::ConstPtr> extraGrids() const {
+        return {extra_.begin(), extra_.end()};
+    }
 
     /// File-level metadata written into map.vdb (e.g. "truncation_mode" = "adaptive").
     openvdb::MetaMap& metadata() { return meta_; }

@@ -15,6 +15,7 @@ namespace vdbmap {
 class Dataset;
 class VoxelMap;
 class Report;
+class ScanStream;
 struct Tile;
 
 /// Everything stages share: the dataset (read-only), the map, the mesh, the report, the output
@@ -25,6 +26,11 @@ struct Tile;
 /// tile's mesh (core and halo faces, haloFaces()), views() the views assigned to the tile and
 /// tile() its bounds. A stage written against views(), haloFaces() and outputDir() runs
 /// unchanged in tiled and untiled runs; it writes only its core faces.
+///
+/// Streamed tiled runs finish tiles while the scans are integrated: a stage that integrates
+/// the dataset's scans asks beginScanStream() which frames to read and calls scanIntegrated()
+/// after each one. In a tile's context, the map is complete only within the tile's occluder
+/// region (the tile grown by max(halo_m, occluder_margin_m)).
 class Context {
 public:
     Context(std::filesystem::path output_dir, Report& report, bool quiet = false);
@@ -82,6 +88,22 @@ public:
     /// write it); all 0 in untiled runs. Throws Error without a mesh.
     std::vector<std::uint8_t> haloFaces() const;
 
+    /// For a stage that integrates the dataset's scans, before the first one: `update_reach_m`
+    /// is how far beyond a point (metres) one scan can change the map. Returns the frames to
+    /// integrate, ascending: every frame, or in a distributed run the frames whose scans can
+    /// reach this process's tiles. Throws Error without a dataset.
+    std::vector<std::size_t> beginScanStream(double update_reach_m);
+    /// Call after integrating each frame beginScanStream() returned (the map must be set): in
+    /// a streamed tiled run it finishes every tile no later scan or view can change (runs the
+    /// tile stages, writes the tile, frees it). Throws what those stages throw.
+    void scanIntegrated(std::size_t frame);
+    /// The frames a stage reading per-point data (scans, LiDAR labels) should read: in a tile's
+    /// context those whose scans can reach the tile (all frames if the run was not planned
+    /// from the poses), else the frames of beginScanStream() (all frames before it).
+    std::vector<std::size_t> scanFrames() const;
+    /// The pipeline's side of streaming (set by the pipeline for tiled runs).
+    void setScanStream(std::shared_ptr<ScanStream> stream) { stream_ = std::move(stream); }
+
 private:
     std::filesystem::path output_dir_;
     Report& report_;
@@ -91,6 +113,7 @@ private:
     std::shared_ptr<TriMesh> mesh_;
     std::shared_ptr<const Tile> tile_;
     std::shared_ptr<const TriMesh> occluder_;
+    std::shared_ptr<ScanStream> stream_;
 };
 
 }  // namespace vdbmap

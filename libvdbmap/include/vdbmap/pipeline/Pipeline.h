@@ -13,8 +13,12 @@
 namespace vdbmap {
 
 class OptionSpec;
+class ProcessGroup;
 class Report;
 class Stage;
+namespace detail {
+class PipelineRunner;
+}
 
 /// The optional `output:` section of a pipeline.
 struct OutputConfig {
@@ -96,12 +100,20 @@ public:
     /// report, and the exception is rethrown). Opens the dataset first (IoError) and re-checks
     /// the layers with what it really provides. `quiet` turns progress bars off.
     void run(const std::filesystem::path& output_dir, Report& report, bool quiet = false);
+    /// The same run as one process of a distributed job (vdbmap-mpi): the tiles are spread
+    /// over `group`'s processes (TilePlan), each integrates only the scans its tiles need and
+    /// writes its tiles; process 0 writes map.vdb (gathered), tiles.json and report.json. A
+    /// failure on any process fails every process (the first failing process's error, same
+    /// type) and no tiles.json is written. Needs a tiled pipeline (ConfigError otherwise).
+    void run(const std::filesystem::path& output_dir, Report& report, bool quiet,
+             ProcessGroup& group);
 
     /// The pipeline's state (opaque: defined in src/pipeline/PipelineImpl.h for the phases of
     /// fromString and run).
     struct Impl;
 
 private:
+    friend class detail::PipelineRunner;
     Pipeline();
     std::unique_ptr<Impl> impl_;
 };

@@ -21,7 +21,8 @@ class Dataset;
 struct TilingConfig {
     double tile_size_m = 0.0;           ///< tile edge; 0 = untiled
     double halo_m = 4.0;                ///< border of neighbouring mesh each tile sees
-    double max_view_distance_m = 60.0;  ///< a view is given to a tile only within this distance
+    /// A view is given to a tile only if its frustum meets the tile within this depth.
+    double max_view_distance_m = 40.0;
     /// Mesh around the tile (beyond the halo) used only as occluder by visibility tests.
     double occluder_margin_m = 30.0;
     bool merge = false;                 ///< also write today's single outputs (when they fit)
@@ -29,6 +30,9 @@ struct TilingConfig {
     /// The world axis that points up; tiles cut the other two. "auto": the W axis closest to
     /// the LiDAR's z axis at the first frame (KITTI's W is camera 0: y is up-down).
     std::string up_axis = "auto";
+    /// Finish each tile as soon as no later scan or view can change it (while the scans are
+    /// still being integrated); false: every tile after the last scan. Same outputs.
+    bool stream = true;
 
     bool enabled() const { return tile_size_m > 0.0; }
     void declareOptions(OptionSpec& spec);
@@ -48,10 +52,17 @@ struct Tile {
     MeshRegion occluder_region;  ///< region + occluder margin (halo_vox = the margin)
     double voxel_size_m = 0;
     int up_axis = 2;          ///< 0 = x, 1 = y, 2 = z
-    Box3d core_W;             ///< ground axes: the core; up axis: the map's observed range
+    /// Ground axes: the core. Up axis: the range of the map's leaves over the halo region
+    /// (every face of the tile's mesh lies inside), the same whenever the tile is finished.
+    Box3d core_W;
     Box3d halo_W;             ///< core grown by the halo
     /// (frame, camera) of every view that may see the tile (frustum, max view distance).
     std::vector<std::pair<std::size_t, std::size_t>> views;
+    /// The tiling's max_view_distance_m the views were chosen with (for wider contexts).
+    double max_view_distance_m = 40.0;
+    /// Frames whose scans may change the map around the tile (its occluder region), ascending;
+    /// empty when the run was not planned from the poses (TileGrid::tilesOf).
+    std::vector<std::size_t> scan_frames;
 
     /// "<ix>_<iy>", the tile's folder name below tiles/.
     std::string name() const { return std::to_string(ix) + "_" + std::to_string(iy); }
@@ -74,15 +85,27 @@ public:
     double tileSizeM() const { return tile_vox_ * voxel_size_m_; }
     double haloM() const { return halo_vox_ * voxel_size_m_; }
 
-    /// Tiles holding at least one observed leaf of `map`, views not yet assigned.
+    std::int32_t occluderVoxels() const { return occluder_vox_; }
+    double voxelSize() const { return voxel_size_m_; }
+    /// The two ground axes (0 = x, 1 = y, 2 = z): tile index ix runs along the first.
+    int groundAxis(int k) const { return axes_[k]; }
+
+    /// Tile (ix, iy) with its regions; its bounds along the up axis are empty until fitToMap.
+    Tile tile(int ix, int iy) const;
+    /// Sets the tile's bounds along the up axis from the leaves of `map` over its halo region
+    /// (the region its mesh comes from). Returns whether its core holds an observed leaf.
+    bool fitToMap(Tile& tile, const VoxelMap& map) const;
+    /// Tiles holding at least one observed leaf of `map`, fitted to it, views not assigned.
     std::vector<Tile> tilesOf(const VoxelMap& map) const;
-    /// Assigns to each tile every view of the dataset (frame x camera) whose frustum may see
-    /// the tile's halo box within `max_view_distance_m`.
+    /// Assigns to each tile every view of the dataset (frame x camera) whose frustum meets
+    /// the tile's halo box within the depth `max_view_distance_m` (viewFrustumMeetsBox).
     static void assignViews(std::vector<Tile>& tiles, const Dataset& dataset,
+                            double max_view_distance_m);
+    /// The same for one tile and a list of views (datasetViews of the dataset).
+    static void assignViews(Tile& tile, const std::vector<View>& views,
                             double max_view_distance_m);
 
 private:
-    Tile makeTile(int ix, int iy, double z_min_m, double z_max_m) const;
     double voxel_size_m_;
     int up_axis_;
     int axes_[2];

@@ -21,4 +21,10 @@ double viewDistanceToBox(const View& view, const Box3d& box);
 /// max_depth_m from the camera centre. A box that may be seen is never rejected.
 bool viewMaySeeBox(const View& view, const Box3d& box, double min_depth_m, double max_depth_m);
 
+/// The frustum planes only: false only if the box lies entirely outside one plane (image
+/// borders, camera depth z in [min_depth_m, max_depth_m]). Never rejects a box holding a point
+/// that computeVisibility with the same depth limits could find visible.
+bool viewFrustumMeetsBox(const View& view, const Box3d& box, double min_depth_m,
+                         double max_depth_m);
+
 }  // namespace vdbmap

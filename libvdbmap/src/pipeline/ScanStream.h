@@ -1,0 +1,25 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+namespace vdbmap {
+
+class Dataset;
+
+/// The pipeline's side of scan streaming (Context::beginScanStream / scanIntegrated): the
+/// tiled pipeline plans its tiles when the integrating stage begins and finishes them as the
+/// frames they wait for are integrated (pipeline/TileStream.h).
+class ScanStream {
+public:
+    virtual ~ScanStream() = default;
+    /// Plans with the stage's update reach; returns the frames to integrate, ascending.
+    virtual std::vector<std::size_t> begin(const Dataset& dataset, double update_reach_m) = 0;
+    virtual void frameIntegrated(std::size_t frame) = 0;
+    virtual bool begun() const = 0;
+    /// The frames begin() returned.
+    virtual const std::vector<std::size_t>& frames() const = 0;
+};
+
+}  // namespace vdbmap

@@ -1,0 +1,109 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "pipeline/TileStream.h"
+
+#include <string>
+
+#include "vdbmap/core/Log.h"
+#include "vdbmap/core/Timer.h"
+#include "vdbmap/io/Dataset.h"
+#include "vdbmap/map/VoxelMap.h"
+#include "vdbmap/pipeline/Context.h"
+
+namespace vdbmap::detail {
+
+void TileStream::makeGrid() {
+    const Context& ctx = *setup_.ctx;
+    const double voxel_size_m = ctx.map().voxelSize();
+    setup_.tiling->validate(voxel_size_m, *setup_.tiling_where);
+    const int up_axis = TileGrid::resolveUpAxis(*setup_.tiling, ctx.hasDataset() ? &ctx.dataset() : nullptr);
+    grid_.emplace(*setup_.tiling, voxel_size_m, up_axis);
+    logInfo("tiling: tiles of " + std::to_string(grid_->tileSizeM()) + " m, halo " +
+            std::to_string(grid_->haloM()) + " m");
+}
+
+std::vector<std::size_t> TileStream::begin(const Dataset& dataset, double update_reach_m) {
+    makeGrid();
+    TilePlanOptions options;
+    // A scan changes the map no farther than its range filter plus the update reach.
+    options.scan_reach_m = dataset.config().max_range_m + update_reach_m;
+    options.max_view_distance_m = setup_.tiling->max_view_distance_m;
+    options.processes = setup_.processes;
+    options.stream = setup_.tiling->stream;
+    plan_ = planTiles(*grid_, dataset, options);
+    if (setup_.process == 0 && setup_.processes > static_cast<int>(plan_->tiles.size())) {
+        logWarn("tiling: " + std::to_string(setup_.processes) + " processes but only " +
+                std::to_string(plan_->tiles.size()) + " tiles within reach of a scan: " +
+                std::to_string(setup_.processes - static_cast<int>(plan_->tiles.size())) +
+                " process(es) get no tile");
+    }
+    for (const PlannedTile& t : plan_->tiles) {
+        if (t.process == setup_.process) pending_.push_back(&t);
+    }
+    frames_ = plan_->framesOf(setup_.process);
+    views_ = datasetViews(dataset, false, false);
+    logInfo("tiling: " + std::to_string(plan_->tiles.size()) + " tiles within reach of a scan (" +
+            std::to_string(options.scan_reach_m) + " m)" +
+            (setup_.processes > 1 ? ", " + std::to_string(pending_.size()) + " on process " +
+                                        std::to_string(setup_.process) + ", " +
+                                        std::to_string(frames_.size()) + " of " +
+                                        std::to_string(dataset.numFrames()) + " frames"
+                                  : std::string()));
+    return frames_;
+}
+
+void TileStream::frameIntegrated(std::size_t frame) {
+    while (next_ < pending_.size() && pending_[next_]->finish_frame <= frame) {
+        finish(*pending_[next_++], static_cast<long>(frame));
+    }
+}
+
+void TileStream::finishAll() {
+    if (!plan_) {
+        // No stage streamed the scans: the tiles of the map's leaves, spread by count.
+        makeGrid();
+        plan_.emplace();
+        for (const Tile& t : grid_->tilesOf(setup_.ctx->map())) {
+            PlannedTile p;
+            p.ix = t.ix;
+            p.iy = t.iy;
+            p.cost = 1.0;
+            plan_->tiles.push_back(p);
+        }
+        std::vector<double> costs(plan_->tiles.size(), 1.0);
+        const std::vector<int> parts = partitionContiguous(costs, setup_.processes);
+        for (std::size_t i = 0; i < parts.size(); ++i) plan_->tiles[i].process = parts[i];
+        for (const PlannedTile& t : plan_->tiles) {
+            if (t.process == setup_.process) pending_.push_back(&t);
+        }
+        if (setup_.ctx->hasDataset()) views_ = datasetViews(setup_.ctx->dataset(), false, false);
+    }
+    while (next_ < pending_.size()) finish(*pending_[next_++], -1);
+}
+
+void TileStream::finish(const PlannedTile& planned, long after_frame) {
+    Timer timer;
+    Context& ctx = *setup_.ctx;
+    auto tile = std::make_shared<Tile>(grid_->tile(planned.ix, planned.iy));
+    tile->scan_frames = planned.scan_frames;
+    tile->max_view_distance_m = setup_.tiling->max_view_distance_m;
+    // Tiles are created on demand: a planned tile that no scan gave an observed leaf in its
+    // core does not exist.
+    if (!grid_->fitToMap(*tile, ctx.map())) {
+        ++without_leaves_;
+        if (setup_.tile_seconds) *setup_.tile_seconds += timer.elapsedSeconds();
+        return;
+    }
+    if (ctx.hasDataset()) {
+        TileGrid::assignViews(*tile, views_, setup_.tiling->max_view_distance_m);
+    }
+    TileOutcome outcome = runTile(*setup_.stages, setup_.first, *setup_.output, ctx,
+                                  std::shared_ptr<const Tile>(tile), after_frame, *setup_.current);
+    if (outcome.empty) {
+        ++without_faces_;
+    } else {
+        outcomes_.push_back(std::move(outcome));
+    }
+    if (setup_.tile_seconds) *setup_.tile_seconds += timer.elapsedSeconds();
+}
+
+}  // namespace vdbmap::detail

@@ -1,0 +1,111 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "pipeline/PipelineImpl.h"
+#include "vdbmap/pipeline/Report.h"
+#include "pipeline/ScanStream.h"
+#include "vdbmap/pipeline/TilePlan.h"
+#include "vdbmap/pipeline/Tiling.h"
+#include "vdbmap/render/Visibility.h"
+
+namespace vdbmap {
+class Context;
+}
+
+namespace vdbmap::detail {
+
+/// What one finished tile leaves behind (JSON text, so that it can travel between processes).
+struct TileOutcome {
+    std::string name;
+    int ix = 0, iy = 0;
+    bool empty = true;       ///< no core face: nothing written, not in the index
+    std::string index_json;  ///< its tiles.json entry
+    std::string report_json; ///< its report.json "tiles" entry
+    std::size_t faces = 0, halo_faces = 0;
+};
+
+/// Counts over all processes of the tiles that left no output.
+struct TileSummary {
+    std::size_t planned = 0;         ///< tiles of the plan (within reach of a scan)
+    std::size_t without_leaves = 0;  ///< planned, but no observed leaf in the core
+    std::size_t without_faces = 0;   ///< observed leaves, but no core face
+};
+
+/// tiles.json from the finished tiles of all processes (sorted by (iy, ix): the index does
+/// not depend on when or where a tile was finished); the per-tile and total figures go into
+/// `report` ("tiles", "tiling").
+std::string tilesIndex(std::vector<TileOutcome> outcomes, const TileSummary& summary,
+                       const TileGrid& grid, const TilingConfig& tiling, Report& report);
+
+/// Runs stages[first..] on one tile in a context of its own below ctx (tiles/<name>/), writes
+/// its core mesh, frees its mesh, views and stage state on return. `finished_after_frame`
+/// goes into its report (-1: after the last scan). Errors are rethrown with "tile <name>: "
+/// in front, same type.
+TileOutcome runTile(std::vector<PipelineStage>& stages, std::size_t first,
+                    const OutputConfig& output, Context& ctx,
+                    const std::shared_ptr<const Tile>& tile, long finished_after_frame,
+                    std::string& current);
+
+/// The tiles of one process of a tiled run (issue 13). When the integrating stage begins
+/// (Context::beginScanStream) it plans the tiles from the poses (TilePlan), keeps this
+/// process's, and returns the frames they need; after each integrated frame it finishes every
+/// tile whose finish frame has passed (tiles without observed leaves are dropped, the others
+/// fitted to the map, given their views and run by runTile). finishAll() finishes the rest.
+class TileStream final : public ScanStream {
+public:
+    struct Setup {
+        std::vector<PipelineStage>* stages = nullptr;
+        std::size_t first = 0;  ///< the first tiled stage
+        const TilingConfig* tiling = nullptr;
+        const std::string* tiling_where = nullptr;  ///< "file:line:col" of `tiling:`
+        const OutputConfig* output = nullptr;
+        Context* ctx = nullptr;        ///< the run's context (dataset, map)
+        std::string* current = nullptr;  ///< what runs now, for error reports
+        int process = 0, processes = 1;
+        /// Time spent finishing tiles is added here (it runs inside the integrating stage).
+        double* tile_seconds = nullptr;
+    };
+    explicit TileStream(const Setup& setup) : setup_(setup) {}
+
+    std::vector<std::size_t> begin(const Dataset& dataset, double update_reach_m) override;
+    void frameIntegrated(std::size_t frame) override;
+    bool begun() const override { return plan_.has_value(); }
+    const std::vector<std::size_t>& frames() const override { return frames_; }
+
+    /// Finishes every tile not finished yet. Without begin() (no stage integrated scans
+    /// through the stream) the tiles are those of the map's leaves, spread over the processes.
+    void finishAll();
+
+    /// The grid (after begin() or finishAll()).
+    const TileGrid& grid() const { return *grid_; }
+    /// The plan (after begin() or finishAll()).
+    const TilePlan& plan() const { return *plan_; }
+    /// Finished tiles with faces, in finish order.
+    const std::vector<TileOutcome>& outcomes() const { return outcomes_; }
+    /// Tiles finished without a core face / planned tiles that got no observed leaf.
+    std::size_t tilesWithoutFaces() const { return without_faces_; }
+    std::size_t tilesWithoutLeaves() const { return without_leaves_; }
+
+private:
+    void finish(const PlannedTile& planned, long after_frame);
+    /// The grid from the tiling config and the map's voxel size (ConfigError for a bad config).
+    void makeGrid();
+
+    Setup setup_;
+    std::optional<TileGrid> grid_;
+    std::optional<TilePlan> plan_;
+    std::vector<const PlannedTile*> pending_;  ///< this process's tiles, finish order
+    std::size_t next_ = 0;
+    std::vector<std::size_t> frames_;
+    std::vector<View> views_;
+    std::vector<TileOutcome> outcomes_;
+    std::size_t without_faces_ = 0, without_leaves_ = 0;
+};
+
+}  // namespace vdbmap::detail

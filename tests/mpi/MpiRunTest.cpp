@@ -1,0 +1,166 @@
+// SPDX-License-Identifier: Apache-2.0
+// vdbmap-mpi under `mpirun --oversubscribe -np 3` (issue 13): the same tiles, index and map as
+// the single-process tiled run; each rank reads a stretch of the scans; a failing rank fails
+// the job with exit 1 naming the tile, and no tiles.json is written; more ranks than tiles
+// is a warning. OMPI_ALLOW_RUN_AS_ROOT(_CONFIRM) are set for the mpirun child only.
+#include <catch2/catch.hpp>
+
+#include <array>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "support/CliRun.h"
+#include "support/OutputCompare.h"
+
+namespace fs = std::filesystem;
+using namespace vdbmap;
+using vdbmap::test::Child;
+using vdbmap::test::ChildOptions;
+using vdbmap::test::filesBelow;
+using vdbmap::test::readText;
+using vdbmap::test::vdbVoxels;
+
+namespace {
+
+const fs::path kMpiExe = fs::path(VDBMAP_BINARY_DIR) / "bin" / "vdbmap-mpi";
+
+fs::path workDir() { return fs::path(VDBMAP_BINARY_DIR) / "test_scratch" / "mpi_run"; }
+
+/// A 60 m street in 12 frames (images, semantic images, LiDAR labels), written once.
+fs::path sequence() {
+    const fs::path dir = workDir() / "seq";
+    test::writeSimStreet(dir, 12, 60.0);
+    return dir;
+}
+
+/// A tiled pipeline over `seq` with a 12 m range filter (each rank needs a stretch of the
+/// scans), written to `file`.
+fs::path writeConfig(const fs::path& file, const fs::path& seq, double tile_size_m) {
+    std::ofstream out(file);
+    out << "dataset: {format: kitti, path: " << seq.string() << ", max_range_m: 12}\n"
+        << "plugins: [texture, semantic]\n"
+        << "stages:\n"
+        << "  - stage: integrate.atsdf\n    voxel_size_m: 0.2\n"
+        << "  - stage: mesh.marching_cubes\n"
+        << "  - stage: texture.mrf\n    max_view_angle_deg: 85\n"
+        << "  - stage: semantic.mrf\n    max_view_angle_deg: 88\n"
+        << "    lidar_labels: true\n    label_map: semantickitti\n"
+        << "tiling: {tile_size_m: " << tile_size_m
+        << ", halo_m: 1, occluder_margin_m: 3, max_view_distance_m: 20}\n";
+    return file;
+}
+
+ChildOptions mpiEnv() {
+    ChildOptions options;
+    options.env = {{"OMPI_ALLOW_RUN_AS_ROOT", "1"}, {"OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1"}};
+    return options;
+}
+
+std::vector<std::string> mpiArgs(int ranks, const fs::path& config, const fs::path& out) {
+    return {"--oversubscribe", "-np", std::to_string(ranks), kMpiExe.string(), "run",
+            config.string(), "-o", out.string(), "--quiet"};
+}
+
+}  // namespace
+
+TEST_CASE("mpirun -np 3 writes the tiles, index and map of the single-process run", "[mpi][tiles]") {
+    const fs::path seq = sequence();
+    const fs::path config = writeConfig(workDir() / "tiled.yaml", seq, 6.4);
+    const fs::path single = workDir() / "single", mpi = workDir() / "mpi3";
+    fs::remove_all(single);
+    fs::remove_all(mpi);
+    Child one(test::kVdbmapExe, {"run", config.string(), "-o", single.string(), "--quiet"});
+    REQUIRE(one.exitCode() == 0);
+    Child three(VDBMAP_MPIEXEC, mpiArgs(3, config, mpi), mpiEnv());
+    INFO(three.log());
+    REQUIRE(three.exitCode() == 0);
+
+    // Meshes, labels, textures and the index: byte for byte.
+    const auto a = filesBelow(single / "tiles");
+    const auto b = filesBelow(mpi / "tiles");
+    REQUIRE(a.size() > 20);
+    CHECK(a.size() == b.size());
+    for (const auto& [file, bytes] : a) {
+        INFO(file);
+        REQUIRE(b.count(file) == 1);
+        CHECK(b.at(file) == bytes);
+    }
+    CHECK(readText(single / "tiles.json") == readText(mpi / "tiles.json"));
+    // map.vdb: rank 0 gathered every rank's own leaves into one file of the whole map.
+    CHECK(vdbVoxels(single / "map.vdb") == vdbVoxels(mpi / "map.vdb"));
+
+    const nlohmann::json report = nlohmann::json::parse(readText(mpi / "report.json"));
+    const nlohmann::json index = nlohmann::json::parse(readText(mpi / "tiles.json"));
+    CHECK(report["status"]["state"] == "done");
+    CHECK(report["distributed"]["processes"] == 3);
+    REQUIRE(report["distributed"]["process"].size() == 3);
+    std::size_t tiles = 0, partial = 0;
+    const std::size_t frames = report["counts"]["frames"];
+    for (const auto& p : report["distributed"]["process"]) {
+        tiles += p["tiles"].get<std::size_t>();
+        CHECK(p["tiles"].get<std::size_t>() > 0);
+        // Each rank integrated only the scans its tiles need: a stretch of the drive (the
+        // middle rank's stretch may be all of this short one).
+        CHECK(p["frames_integrated"].get<std::size_t>() > 0);
+        CHECK(p["frames_integrated"].get<std::size_t>() <= frames);
+        partial += p["frames_integrated"].get<std::size_t>() < frames ? 1 : 0;
+    }
+    CHECK(partial >= 2);
+    CHECK(tiles == index["tiles"].size());
+    CHECK(report["tiles"].size() == index["tiles"].size());
+}
+
+TEST_CASE("A failing rank fails the job with exit 1, names the tile, writes no tiles.json",
+          "[mpi][tiles]") {
+    // A copy of the sequence with one unreadable semantic image in the middle of the drive:
+    // only the tiles that view sees fail, on whichever rank has them.
+    const fs::path seq = sequence();
+    const fs::path broken = workDir() / "seq_broken";
+    if (!fs::exists(broken)) fs::copy(seq, broken, fs::copy_options::recursive);
+    const fs::path bad_image = broken / "semantic_2" / "000006.png";
+    REQUIRE(fs::exists(bad_image));
+    std::ofstream(bad_image, std::ios::trunc) << "not a png";
+    const fs::path config = writeConfig(workDir() / "broken.yaml", broken, 6.4);
+    const fs::path out = workDir() / "mpi_broken";
+    fs::remove_all(out);
+    fs::create_directories(out);
+    std::ofstream(out / "tiles.json") << "{\"stale\": true}";  // an earlier run's index
+
+    Child job(VDBMAP_MPIEXEC, mpiArgs(3, config, out), mpiEnv());
+    const int code = job.exitCode();
+    const std::string log = job.log();
+    INFO(log);
+    CHECK(code == 1);
+    // vdbmap-mpi prints "tile <ix>_<iy>: semantic.mrf: ...<file>..." once (rank 0).
+    const auto at = log.find("tile ");
+    REQUIRE(at != std::string::npos);
+    CHECK(log.find("semantic.mrf", at) != std::string::npos);
+    CHECK(log.find("000006.png", at) != std::string::npos);
+    CHECK_FALSE(fs::exists(out / "tiles.json"));
+    const nlohmann::json report = nlohmann::json::parse(readText(out / "report.json"));
+    CHECK(report["status"]["state"] == "failed");
+    CHECK(report["status"]["exit_code"] == 1);
+    CHECK(report["status"]["error"].get<std::string>().rfind("tile ", 0) == 0);
+}
+
+TEST_CASE("mpirun with more ranks than tiles warns and still writes every tile", "[mpi][tiles]") {
+    const fs::path seq = sequence();
+    // 64 m tiles: the 60 m street and its reach touch at most 6 tiles.
+    const fs::path config = writeConfig(workDir() / "big_tiles.yaml", seq, 64.0);
+    const fs::path single = workDir() / "big_single", mpi = workDir() / "big_mpi";
+    fs::remove_all(single);
+    fs::remove_all(mpi);
+    Child one(test::kVdbmapExe, {"run", config.string(), "-o", single.string(), "--quiet"});
+    REQUIRE(one.exitCode() == 0);
+    Child job(VDBMAP_MPIEXEC, mpiArgs(8, config, mpi), mpiEnv());
+    const int code = job.exitCode();
+    INFO(job.log());
+    CHECK(code == 0);
+    CHECK(job.log().find("8 processes but only") != std::string::npos);
+    CHECK(job.log().find("process(es) get no tile") != std::string::npos);
+    CHECK(readText(single / "tiles.json") == readText(mpi / "tiles.json"));
+    CHECK(filesBelow(single / "tiles") == filesBelow(mpi / "tiles"));
+}

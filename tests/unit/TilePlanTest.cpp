@@ -1,0 +1,187 @@
+// SPDX-License-Identifier: Apache-2.0
+// The pose-based tile plan of streamed and distributed runs (issue 13): which tiles a scan
+// can reach, which frames each tile needs, when it can be finished, and the split over
+// processes, against brute-force oracles.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <numeric>
+#include <random>
+#include <set>
+
+#include "support/CliRun.h"
+#include "vdbmap/Error.h"
+#include "vdbmap/core/Log.h"
+#include "vdbmap/io/Dataset.h"
+#include "vdbmap/pipeline/TilePlan.h"
+#include "vdbmap/render/ViewFrustum.h"
+
+namespace fs = std::filesystem;
+using namespace vdbmap;
+
+namespace {
+
+/// The largest part of a partition.
+double largestPart(const std::vector<double>& costs, const std::vector<int>& parts, int n) {
+    std::vector<double> sums(static_cast<std::size_t>(n), 0.0);
+    for (std::size_t i = 0; i < costs.size(); ++i) sums[static_cast<std::size_t>(parts[i])] += costs[i];
+    return *std::max_element(sums.begin(), sums.end());
+}
+
+/// Brute force: the smallest largest part over every way of cutting into <= n contiguous runs.
+double bestLargestPart(const std::vector<double>& costs, int n) {
+    const std::size_t m = costs.size();
+    double best = std::numeric_limits<double>::max();
+    // Each of the m - 1 gaps is a cut or not; at most n - 1 cuts.
+    for (std::uint32_t cuts = 0; cuts < (1u << (m - 1)); ++cuts) {
+        if (static_cast<int>(__builtin_popcount(cuts)) > n - 1) continue;
+        double run = 0.0, largest = 0.0;
+        for (std::size_t i = 0; i < m; ++i) {
+            if (i > 0 && (cuts & (1u << (i - 1)))) run = 0.0;
+            run += costs[i];
+            largest = std::max(largest, run);
+        }
+        best = std::min(best, largest);
+    }
+    return best;
+}
+
+double groundDistance(double g0, double g1, double min0, double min1, double max0, double max1) {
+    const double d0 = std::max({min0 - g0, 0.0, g0 - max0});
+    const double d1 = std::max({min1 - g1, 0.0, g1 - max1});
+    return std::sqrt(d0 * d0 + d1 * d1);
+}
+
+}  // namespace
+
+TEST_CASE("partitionContiguous: the smallest largest part, every process busy", "[tiles]") {
+    CHECK(partitionContiguous({1, 1, 1, 1}, 2) == std::vector<int>{0, 0, 1, 1});
+    CHECK(partitionContiguous({5, 1, 1, 1, 1, 1}, 2) == std::vector<int>{0, 1, 1, 1, 1, 1});
+    CHECK(partitionContiguous({1, 2, 3}, 5) == std::vector<int>{0, 1, 2});
+    CHECK(partitionContiguous({}, 3).empty());
+    CHECK(partitionContiguous({4, 4}, 1) == std::vector<int>{0, 0});
+    CHECK_THROWS_AS(partitionContiguous({1.0}, 0), InvalidInput);
+    // Four equal items on three processes: largest part 2, and no process idle.
+    const std::vector<int> three = partitionContiguous({1, 1, 1, 1}, 3);
+    CHECK(std::set<int>(three.begin(), three.end()).size() == 3);
+    CHECK(largestPart({1, 1, 1, 1}, three, 3) == Approx(2.0));
+
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> cost(0.1, 10.0);
+    for (int trial = 0; trial < 300; ++trial) {
+        const std::size_t m = 1 + rng() % 9;
+        const int n = 1 + static_cast<int>(rng() % 4);
+        std::vector<double> costs(m);
+        for (double& c : costs) c = cost(rng);
+        const std::vector<int> parts = partitionContiguous(costs, n);
+        REQUIRE(parts.size() == m);
+        CHECK(parts.front() == 0);
+        for (std::size_t i = 1; i < m; ++i) {
+            CHECK(parts[i] >= parts[i - 1]);  // contiguous runs in order
+            CHECK(parts[i] <= parts[i - 1] + 1);
+        }
+        CHECK(parts.back() < n);
+        // Every process gets an item when there are enough of them.
+        CHECK(parts.back() + 1 == std::min<int>(n, static_cast<int>(m)));
+        CHECK(largestPart(costs, parts, n) == Approx(bestLargestPart(costs, n)).epsilon(1e-6));
+    }
+}
+
+TEST_CASE("planTiles: tiles and scan frames are those a scan's reach gives", "[tiles]") {
+    setLogLevel(LogLevel::Warn);
+    const fs::path dir = fs::path(VDBMAP_BINARY_DIR) / "test_scratch" / "tile_plan" / "seq";
+    test::writeSimStreet(dir, 12, 60.0);
+    DatasetConfig config;
+    config.path = dir.string();
+    const auto dataset = Dataset::open(config);
+    TilingConfig tiling;
+    tiling.tile_size_m = 6.4;
+    tiling.halo_m = 1.0;
+    tiling.occluder_margin_m = 3.0;
+    const int up = TileGrid::resolveUpAxis(tiling, dataset.get());
+    CHECK(up == 1);  // KITTI W: y is up-down
+    const TileGrid grid(tiling, 0.1, up);
+    TilePlanOptions options;
+    options.scan_reach_m = 12.0;
+    options.max_view_distance_m = 15.0;
+    options.processes = 3;
+    const TilePlan plan = planTiles(grid, *dataset, options);
+    REQUIRE(plan.tiles.size() > 6);
+
+    // Oracle: a tile exists iff some frame's sensor lies within the reach of its core; its
+    // frames are those within the reach of the core grown by the occluder margin + 1 voxel.
+    const double s = grid.tileSizeM();
+    const double grow = (grid.occluderVoxels() + 1) * 0.1;
+    const int a0 = grid.groundAxis(0), a1 = grid.groundAxis(1);
+    std::size_t expected_tiles = 0;
+    for (int iy = -20; iy <= 20; ++iy) {
+        for (int ix = -20; ix <= 20; ++ix) {
+            bool reached = false;
+            std::vector<std::size_t> frames;
+            for (std::size_t i = 0; i < dataset->numFrames(); ++i) {
+                const Eigen::Vector3d o = dataset->frame(i).T_W_L.translation();
+                if (groundDistance(o[a0], o[a1], ix * s, iy * s, (ix + 1) * s, (iy + 1) * s) <= 12.0)
+                    reached = true;
+                if (groundDistance(o[a0], o[a1], ix * s - grow, iy * s - grow, (ix + 1) * s + grow,
+                                   (iy + 1) * s + grow) <= 12.0)
+                    frames.push_back(i);
+            }
+            const PlannedTile* t = plan.find(ix, iy);
+            INFO("tile " << ix << "_" << iy);
+            CHECK((t != nullptr) == reached);
+            if (!reached || t == nullptr) continue;
+            ++expected_tiles;
+            CHECK(t->scan_frames == frames);
+            CHECK(t->finish_frame >= frames.back());
+            CHECK(t->finish_frame < dataset->numFrames());
+            CHECK(t->cost > 0.0);
+        }
+    }
+    CHECK(plan.tiles.size() == expected_tiles);
+
+    // Finish order; processes in contiguous runs of it; each process's frames are the union
+    // of its tiles' frames, and a stretch of the drive, not all of it.
+    std::size_t total_tiles = 0;
+    for (std::size_t i = 1; i < plan.tiles.size(); ++i) {
+        CHECK(plan.tiles[i].finish_frame >= plan.tiles[i - 1].finish_frame);
+        CHECK(plan.tiles[i].process >= plan.tiles[i - 1].process);
+    }
+    for (int p = 0; p < 3; ++p) {
+        std::set<std::size_t> expected;
+        for (const PlannedTile& t : plan.tiles)
+            if (t.process == p) expected.insert(t.scan_frames.begin(), t.scan_frames.end());
+        const std::vector<std::size_t> frames = plan.framesOf(p);
+        CHECK(std::vector<std::size_t>(expected.begin(), expected.end()) == frames);
+        CHECK(plan.tilesOf(p) > 0);
+        CHECK(frames.size() < dataset->numFrames());
+        total_tiles += plan.tilesOf(p);
+    }
+    CHECK(total_tiles == plan.tiles.size());
+
+    // The last view that may see a tile (frustum and distance against its halo box at every
+    // height a scan reaches) is no later than its finish frame.
+    const std::vector<View> views = datasetViews(*dataset, false, false);
+    REQUIRE_FALSE(views.empty());
+    double up_min = 1e9, up_max = -1e9;
+    for (std::size_t i = 0; i < dataset->numFrames(); ++i) {
+        up_min = std::min(up_min, dataset->frame(i).T_W_L.translation()[up]);
+        up_max = std::max(up_max, dataset->frame(i).T_W_L.translation()[up]);
+    }
+    for (const PlannedTile& t : plan.tiles) {
+        Tile tile = grid.tile(t.ix, t.iy);
+        tile.halo_W.min_W[up] = up_min - 12.0;
+        tile.halo_W.max_W[up] = up_max + 12.0;
+        TileGrid::assignViews(tile, views, 15.0);
+        for (const auto& [frame, camera] : tile.views) CHECK(frame <= t.finish_frame);
+    }
+
+    // Unstreamed: every tile waits for the last frame.
+    options.stream = false;
+    for (const PlannedTile& t : planTiles(grid, *dataset, options).tiles) {
+        CHECK(t.finish_frame == dataset->numFrames() - 1);
+    }
+    options.scan_reach_m = -1.0;
+    CHECK_THROWS_AS(planTiles(grid, *dataset, options), InvalidInput);
+}
