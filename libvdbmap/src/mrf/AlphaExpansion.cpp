@@ -1,11 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 // Alpha-expansion (Boykov, Veksler, Zabih 2001) for the sparse Potts MRF, with the binary
-// expansion move built as in Kolmogorov and Zabih (2004) and solved by OpenCV's Apache-2.0
-// Boykov-Kolmogorov max-flow (cv::detail::GCGraph). One solver for the texture view selection
-// (paper Sec. 5.1) and the semantic fusion (paper Sec. 6, Eq. semantic_mrf_energy_function).
-#include <opencv2/core.hpp>
-// GCGraph uses CV_Assert / MIN from core.hpp, so it comes after it.
-#include <opencv2/imgproc/detail/gcgraph.hpp>
+// expansion move built as in Kolmogorov and Zabih (2004) and solved as a minimum cut
+// (mrf/BinaryCut.h: Boost Graph's Boykov-Kolmogorov max-flow). One solver for the texture view
+// selection (paper Sec. 5.1) and the semantic fusion (paper Sec. 6, Eq.
+// semantic_mrf_energy_function).
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -17,6 +15,7 @@
 #include <sstream>
 #include <string>
 
+#include "mrf/BinaryCut.h"
 #include "mrf/MrfCheck.h"
 #include "vdbmap/core/Log.h"
 #include "vdbmap/mrf/PottsMrf.h"
@@ -192,10 +191,7 @@ private:
         const std::size_t nv = vars_.size();
         e0_.assign(nv, 0.0);
         e1_.assign(nv, 0.0);
-        cv::detail::GCGraph<double> graph;
-        graph.create(static_cast<unsigned>(nv), static_cast<unsigned>(4 * nv));
-        for (std::size_t v = 0; v < nv; ++v) graph.addVtx();
-        std::size_t num_edges = 0;
+        cut_.reset(nv);
         for (std::size_t v = 0; v < nv; ++v) {
             const std::uint32_t i = vars_[v];
             const std::uint32_t li = labels_[nodes_[i]];
@@ -218,28 +214,11 @@ private:
                 const double pair_a = li != lj ? w : 0.0;
                 e1_[v] += w - pair_a;
                 e0_[u] += w;
-                const double cap = 2.0 * w - pair_a;
-                if (cap > 0.0) {
-                    graph.addEdges(static_cast<int>(v), u, cap, 0.0);
-                    ++num_edges;
-                }
+                cut_.addPair(v, static_cast<std::size_t>(u), 2.0 * w - pair_a);
             }
         }
-        // Source side = keep (x = 0), sink side = alpha (x = 1): a node on the sink side cuts
-        // its source edge, so the source capacity is the cost of x = 1.
-        for (std::size_t v = 0; v < nv; ++v) {
-            const double m = std::min(e0_[v], e1_[v]);
-            graph.addTermWeights(static_cast<int>(v), e1_[v] - m, e0_[v] - m);
-        }
-        take_.assign(nv, 0);
-        if (num_edges == 0) {
-            for (std::size_t v = 0; v < nv; ++v) take_[v] = e1_[v] < e0_[v];
-        } else {
-            graph.maxFlow();
-            for (std::size_t v = 0; v < nv; ++v) {
-                take_[v] = graph.inSourceSegment(static_cast<int>(v)) ? 0 : 1;
-            }
-        }
+        for (std::size_t v = 0; v < nv; ++v) cut_.addUnary(v, e0_[v], e1_[v]);
+        cut_.solve(take_);
         const bool improved = applyIfBetter(alpha);
         for (const std::uint32_t i : vars_) var_of_[i] = -1;
         return improved;
@@ -298,6 +277,7 @@ private:
     std::vector<double> var_alpha_cost_;
     std::vector<double> e0_, e1_;
     std::vector<char> take_;
+    detail::BinaryCut cut_;
 };
 
 }  // namespace
