@@ -8,7 +8,7 @@ set -euo pipefail
 
 PACKAGES=(
     cmake g++ make pkg-config
-    libopenvdb-dev libboost-iostreams-dev libtbb-dev libimath-dev
+    libopenvdb-dev libboost-iostreams-dev libboost-dev libtbb-dev libimath-dev
     libeigen3-dev libopencv-dev libopenmesh-dev libcgal-dev
     libyaml-cpp-dev catch2 libembree-dev
     libspdlog-dev libfmt-dev libcli11-dev nlohmann-json3-dev

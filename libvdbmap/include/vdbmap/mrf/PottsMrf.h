@@ -48,8 +48,8 @@ double mrfEnergy(const MrfProblem& problem, const std::vector<std::uint32_t>& la
 /// Per-node argmin of the unary cost (ties: smallest label); lambda = 0 solution.
 std::vector<std::uint32_t> mrfArgmin(const MrfProblem& problem);
 
-/// Alpha-expansion with graph cuts (Boykov, Veksler, Zabih 2001) using OpenCV's Apache-2.0
-/// GCGraph max-flow. Starts from mrfArgmin, never raises the energy, stops when a sweep
+/// Alpha-expansion with graph cuts (Boykov, Veksler, Zabih 2001), each move an exact minimum
+/// cut (Boost Graph's Boykov-Kolmogorov max-flow). Starts from mrfArgmin, never raises the energy, stops when a sweep
 /// brings no improvement. lambda = 0 returns mrfArgmin exactly. Throws InvalidInput on an
 /// inconsistent problem (sizes, label out of range).
 MrfSolution solveAlphaExpansion(const MrfProblem& problem,
