@@ -2,6 +2,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdint>
 #include <unordered_map>
 #include <utility>
 
@@ -58,8 +59,10 @@ Quality run(TruncationMode mode, double eps_min, double eps_max) {
 
     // Vertex hash on a 0.2 m grid for the completeness search.
     auto cellKey = [](double x, double y) {
-        return (static_cast<long long>(std::floor(x / 0.2)) << 32) ^
-               static_cast<long long>(std::floor(y / 0.2)) & 0xFFFFFFFFll;
+        // Through unsigned: shifting a negative cell index is undefined behaviour.
+        const auto ix = static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(x / 0.2)));
+        const auto iy = static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(y / 0.2)));
+        return static_cast<long long>((ix << 32) ^ (iy & 0xFFFFFFFFull));
     };
     std::unordered_map<long long, std::vector<Vec3d>> cells;
     double err_sum = 0.0;
