@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <set>
 
 #include "mesh/CubeTable.h"
 #include "support/MapTestUtil.h"
@@ -148,4 +151,45 @@ TEST_CASE("Empty map gives an empty mesh", "[mesh][mc]") {
     const auto mesh = extractMesh(map, MarchingCubesConfig{});
     CHECK(mesh->n_faces() == 0);
     CHECK(mesh->n_vertices() == 0);
+}
+
+TEST_CASE("Surfaces through grid points: no collapsed or duplicate faces, still closed",
+          "[mesh][mc]") {
+    // An octahedron |x| + |y| + |z| <= 1 m (L1 ball) at 0.1 m voxels: its faces pass exactly
+    // through grid points (the TSDF is exactly 0 there) whose neighbours along two or three
+    // axes are inside, so several grid edges of one cube cross the surface at the same point.
+    // Each such point is one vertex (not one per grid edge reaching it), so no face has zero
+    // area, no face appears twice and the surface stays closed.
+    VoxelMap map(0.1, 0.3f);
+    for (int x = -14; x <= 14; ++x)
+        for (int y = -14; y <= 14; ++y)
+            for (int z = -14; z <= 14; ++z) {
+                const int d_vox = std::abs(x) + std::abs(y) + std::abs(z) - 10;
+                if (std::abs(d_vox) > 4) continue;
+                map.setVoxel(openvdb::Coord(x, y, z), static_cast<float>(0.1 * d_vox / std::sqrt(3.0)), 1.0f);
+            }
+    const auto mesh = extractMesh(map, MarchingCubesConfig{});
+    REQUIRE(mesh->n_faces() > 500);
+    std::set<std::array<std::array<float, 3>, 3>> faces;
+    std::size_t collapsed = 0;
+    for (const auto fh : mesh->faces()) {
+        std::array<std::array<float, 3>, 3> f{};
+        int k = 0;
+        for (const auto vh : mesh->fv_range(fh)) {
+            const auto p = mesh->point(vh);
+            f[static_cast<std::size_t>(k++)] = {p[0], p[1], p[2]};
+        }
+        if (f[0] == f[1] || f[1] == f[2] || f[0] == f[2]) ++collapsed;
+        std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
+        CHECK(faces.insert(f).second);
+    }
+    CHECK(collapsed == 0);
+    std::set<std::array<float, 3>> positions;
+    for (const auto vh : mesh->vertices()) {
+        const auto p = mesh->point(vh);
+        CHECK(positions.insert({p[0], p[1], p[2]}).second);  // one vertex per point
+    }
+    CHECK(boundaryEdgeCount(*mesh) == 0);
+    CHECK(static_cast<long>(mesh->n_vertices()) - static_cast<long>(mesh->n_edges()) +
+              static_cast<long>(mesh->n_faces()) == 2);  // a sphere's topology
 }

@@ -25,7 +25,8 @@ namespace {
 
 using openvdb::Coord;
 
-/// 62-bit key of a grid edge: its lower voxel (20 bits per axis, offset 2^19) and its axis.
+/// 62-bit key of a grid edge: its lower voxel (20 bits per axis, offset 2^19) and its axis
+/// (0 to 2; 3 = the grid point itself, for a crossing exactly on it).
 std::uint64_t edgeKey(const Coord& lower, int axis) {
     constexpr int kOffset = 1 << 19;
     auto f = [](int v) { return static_cast<std::uint64_t>((v + kOffset) & 0xFFFFF); };
@@ -140,11 +141,19 @@ std::vector<LeafMesh> meshLeaves(const VoxelMap& map, const MarchingCubesConfig&
                             openvdb::Vec3f p(static_cast<float>(ca.x()), static_cast<float>(ca.y()),
                                              static_cast<float>(ca.z()));
                             p[axis] += s;
-                            keys[static_cast<std::size_t>(e)] = edgeKey(ca, axis);
+                            // A crossing on a corner (its value exactly 0) is that corner's
+                            // vertex, whichever edge reaches it (key axis 3): the edges that
+                            // meet there share one vertex, and the faces it collapses are
+                            // dropped below instead of becoming zero-area duplicates.
+                            keys[static_cast<std::size_t>(e)] =
+                                s == 0.0f   ? edgeKey(ca, 3)
+                                : s == 1.0f ? edgeKey(ca.offsetBy(axis == 0, axis == 1, axis == 2), 3)
+                                            : edgeKey(ca, axis);
                             lm.vertices.push_back({keys[static_cast<std::size_t>(e)], p * vs});
                         }
                         t[static_cast<std::size_t>(j)] = keys[static_cast<std::size_t>(e)];
                     }
+                    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) continue;  // collapsed
                     lm.triangles.push_back(t);
                     lm.triangle_halo.push_back(static_cast<std::uint8_t>(kind));
                 }
