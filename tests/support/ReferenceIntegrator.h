@@ -60,8 +60,9 @@ public:
         // 3. Every point updates the voxels its segment pierces.
         for (const auto& [key, pts] : scan) {
             const Block& b = blocks_[key];
-            const Vec3d normal = normalOf(key, sensor);
-            for (const Vec3d& p : pts) updateAlongRay(p, sensor, normal, b.eps);
+            double flatness = 0.0;
+            const Vec3d normal = normalOf(key, sensor, flatness);
+            for (const Vec3d& p : pts) updateAlongRay(p, sensor, normal, flatness, b.eps);
         }
     }
 
@@ -70,10 +71,15 @@ public:
 private:
     /// The block's own normal; a degenerate block's: the n-weighted mean of its 26 neighbours'
     /// valid normals, each turned towards the sensor; none: zero (the ray direction is used).
-    Vec3d normalOf(const openvdb::Coord& key, const Vec3d& sensor) const {
+    /// `flatness`: P_flat of the block's plane, or the n-weighted mean of the neighbours'.
+    Vec3d normalOf(const openvdb::Coord& key, const Vec3d& sensor, double& flatness) const {
         const Block& b = blocks_.at(key);
-        if (b.plane.valid) return b.plane.normal;
+        if (b.plane.valid) {
+            flatness = b.plane.flatness;
+            return b.plane.normal;
+        }
         Vec3d sum = Vec3d::Zero();
+        double flat_sum = 0.0, n_sum = 0.0;
         for (int dx = -1; dx <= 1; ++dx)
             for (int dy = -1; dy <= 1; ++dy)
                 for (int dz = -1; dz <= 1; ++dz) {
@@ -82,11 +88,15 @@ private:
                     Vec3d n = it->second.plane.normal;
                     if (n.dot(sensor - it->second.stats.mean) < 0.0) n = -n;
                     sum += it->second.stats.n * n;
+                    flat_sum += it->second.stats.n * it->second.plane.flatness;
+                    n_sum += it->second.stats.n;
                 }
+        flatness = n_sum > 0.0 ? flat_sum / n_sum : 0.0;
         return sum.norm() > 0.0 ? Vec3d(sum.normalized()) : Vec3d::Zero();
     }
 
-    void updateAlongRay(const Vec3d& p, const Vec3d& sensor, const Vec3d& block_normal, double eps) {
+    void updateAlongRay(const Vec3d& p, const Vec3d& sensor, const Vec3d& block_normal,
+                        double flatness, double eps) {
         const Vec3d dir = (p - sensor).normalized();
         const bool has_normal = block_normal.squaredNorm() > 0.0;
         const Vec3d n = has_normal ? block_normal : Vec3d(-dir);
@@ -94,7 +104,7 @@ private:
         // sample's distance along the normal, times the falloff with the distance along the ray.
         const bool paper = c_.truncation.mode == TruncationMode::Paper;
         const double w_inc = paper ? (has_normal ? incidenceWeight(n, sensor, p, c_.weight_floor) : 1.0)
-                                   : noiseWeight(std::abs(n.dot(dir)), c_.noise_ratio);
+                                   : noiseWeight(std::abs(n.dot(dir)), blockNoiseRatio(c_.noise_ratio, flatness));
         const double inv_l2 = !paper && c_.falloff_m > 0.0 ? 1.0 / (c_.falloff_m * c_.falloff_m) : 0.0;
         // Without a normal (isolated degenerate block) the band is [-eps, eps] along the ray.
         const RayBand band = has_normal ? rayBandFor(c_.truncation, eps, std::abs(n.dot(dir)))

@@ -58,6 +58,9 @@ struct LocalBlock {
     std::int32_t slot = -1;  ///< index into BlockStatsGrid
     std::uint32_t begin = 0, end = 0;
     Vec3d normal = Vec3d::Zero();  ///< normal used for the block's points (zero: ray direction)
+    /// P_flat of that normal's plane (borrowed: the neighbours' n-weighted mean): the share of
+    /// noise_ratio its points get (noiseWeight's variance model needs the plane to hold).
+    float flatness = 0.0f;
     detail::CellKey cell;  ///< phase 3's schedule: colour, then cell
 };
 
@@ -393,10 +396,12 @@ void AtsdfIntegrator::ScanPass::borrowNormals() {
             const BlockEntry& entry = blocks_.entry(lb.slot);
             if (entry.plane_valid) {
                 lb.normal = entry.normal_W.cast<double>();
+                lb.flatness = entry.flatness;
                 continue;
             }
             const Coord bc = blocks_.blockCoord(lb.slot);
             Vec3d sum = Vec3d::Zero();
+            double flat_sum = 0.0, n_sum = 0.0;
             for (int dx = -1; dx <= 1; ++dx)
                 for (int dy = -1; dy <= 1; ++dy)
                     for (int dz = -1; dz <= 1; ++dz) {
@@ -407,9 +412,12 @@ void AtsdfIntegrator::ScanPass::borrowNormals() {
                         Vec3d n = ne.normal_W.cast<double>();
                         if (n.dot(origin_W_ - ne.stats.mean) < 0.0) n = -n;
                         sum += ne.stats.n * n;
+                        flat_sum += ne.stats.n * ne.flatness;
+                        n_sum += ne.stats.n;
                     }
             const double norm = sum.norm();
             lb.normal = norm > 0.0 ? Vec3d(sum / norm) : Vec3d::Zero();
+            lb.flatness = n_sum > 0.0 ? static_cast<float>(flat_sum / n_sum) : 0.0f;
         }
     });
 }
@@ -546,7 +554,7 @@ std::size_t AtsdfIntegrator::ScanPass::integrateCell(std::size_t cell_index,
             if (paper_weight) {
                 weight.w_inc = has_normal ? incidenceWeightAlongRay(normal, dir, floor_w) : 1.0f;
             } else {
-                weight.w_inc = noiseWeight(std::abs(normal.dot(dir)), q);
+                weight.w_inc = noiseWeight(std::abs(normal.dot(dir)), blockNoiseRatio(q, lb.flatness));
             }
             detail::integrateRay(s_.segment[k], p, dir, normal, eps, vs_f, weight, table);
         }

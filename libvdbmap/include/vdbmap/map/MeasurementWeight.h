@@ -41,6 +41,16 @@ inline Scalar noiseWeight(Scalar cos_incidence, Scalar q) {
     return (Scalar(1) + q2) / (Scalar(1) + q2 * cos_incidence * cos_incidence);
 }
 
+/// q of noiseWeight for a block whose plane has flatness P_flat (paper Eq. 3): q · P_flat².
+/// The variance model holds where the block is a plane; at an edge or a corner of an object
+/// (P_flat well below 1) a grazing sample's distance along the block's mixed normal is not the
+/// precise one, and its weight tends to a frontal sample's (a box seen from all sides: with the
+/// full q its edges were meshed up to 1.4 voxels off, with holes).
+template <typename Scalar>
+inline Scalar blockNoiseRatio(Scalar q, Scalar flatness) {
+    return q * flatness * flatness;
+}
+
 /// Trust in a sample at a voxel t metres along the ray from its point (adaptive and fixed
 /// modes): the plane through the point is extrapolated over |t|, so the sample counts
 /// 1 / (1 + (t / l)^2), at least `floor` (a lone distant sample still completes the surface
