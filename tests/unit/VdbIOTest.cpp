@@ -16,16 +16,25 @@ using namespace vdbmap;
 using namespace vdbmap::test;
 namespace fs = std::filesystem;
 
+namespace {
+
+/// One scan of `scene` from the origin, integrated and finalized (the truncation grid exists).
+void scanOnce(VoxelMap& map, const SimScene& scene, int azimuth_steps) {
+    SimLidarConfig lidar;
+    lidar.azimuth_steps = azimuth_steps;
+    AtsdfIntegrator integrator(map, AtsdfConfig{});
+    integrateScans(integrator, scene, lidar, {poseAt(Vec3d::Zero())});
+    integrator.finalize();
+}
+
+}  // namespace
+
 TEST_CASE("map.vdb round trip: grids, classes, values and metadata", "[tsdf][vdb]") {
     SimScene scene;
     scene.add(SimPlane{Vec3d(0, 0, -1.7), Vec3d::UnitZ()});
     scene.add(SimSphere{Vec3d(5, 0, 0), 1.0});
-    SimLidarConfig lidar;
-    lidar.azimuth_steps = 512;
     VoxelMap map(0.1, 0.3f);
-    AtsdfIntegrator integrator(map, AtsdfConfig{});
-    integrateScans(integrator, scene, lidar, {poseAt(Vec3d::Zero())});
-    integrator.finalize();
+    scanOnce(map, scene, 512);
 
     const fs::path dir = fs::path(VDBMAP_BINARY_DIR) / "test_out" / "VdbIOTest";
     fs::remove_all(dir);
@@ -83,12 +92,8 @@ TEST_CASE("writeMapVdb, one grid at a time, writes what Archive::write writes", 
     // (writeVdbGrids), byte for byte but for the archive's random UUID.
     SimScene scene;
     scene.add(SimPlane{Vec3d(0, 0, -1.7), Vec3d::UnitZ()});
-    SimLidarConfig lidar;
-    lidar.azimuth_steps = 256;
     VoxelMap map(0.1, 0.3f);
-    AtsdfIntegrator integrator(map, AtsdfConfig{});
-    integrateScans(integrator, scene, lidar, {poseAt(Vec3d::Zero())});
-    integrator.finalize();
+    scanOnce(map, scene, 256);
     auto label = openvdb::FloatGrid::create(0.0f);
     label->tree().setValue(openvdb::Coord(1, 2, 3), 7.0f);
     map.setExtraGrid("label", label);

@@ -74,20 +74,27 @@ std::string runError(const fs::path& root, const std::string& yaml) {
     return "(no error)";
 }
 
-}  // namespace
-
-TEST_CASE("semantic.mrf labels a street from LiDAR labels alone; bad label input is an error",
-          "[semantic][pipeline][lidar]") {
+/// A fresh folder test_scratch/<name> with a simulated street of `frames` LiDAR frames with
+/// labels (no images) in <name>/seq.
+fs::path simLabelledStreet(const std::string& name, std::size_t frames, double size_m) {
     setLogLevel(LogLevel::Warn);
-    const fs::path root = fs::path(VDBMAP_BINARY_DIR) / "test_scratch" / "lidar_label_stage";
+    const fs::path root = fs::path(VDBMAP_BINARY_DIR) / "test_scratch" / name;
     fs::remove_all(root);
     SimOptions sim;
-    sim.frames = 3;
-    sim.size_m = 20.0;
+    sim.frames = frames;
+    sim.size_m = size_m;
     sim.gt_views = 0;
     sim.images = false;
     sim.quiet = true;
     writeSimSequence(sim, root / "seq");
+    return root;
+}
+
+}  // namespace
+
+TEST_CASE("semantic.mrf labels a street from LiDAR labels alone; bad label input is an error",
+          "[semantic][pipeline][lidar]") {
+    const fs::path root = simLabelledStreet("lidar_label_stage", 3, 20.0);
     REQUIRE(fs::exists(root / "seq" / "labels" / "000002.label"));
 
     // Without the map the SemanticKITTI ids (40, 48, ...) are not ours: an error naming the
@@ -162,16 +169,8 @@ TEST_CASE("semantic.mrf labels a street from LiDAR labels alone; bad label input
 
 TEST_CASE("semantic.mrf in tiles reads only the labelled scans that reach the tile",
           "[semantic][pipeline][lidar][tiles]") {
-    setLogLevel(LogLevel::Warn);
-    const fs::path root = fs::path(VDBMAP_BINARY_DIR) / "test_scratch" / "lidar_label_tiles";
-    fs::remove_all(root);
-    SimOptions sim;
-    sim.frames = 8;
-    sim.size_m = 40.0;
-    sim.gt_views = 0;
-    sim.images = false;
-    sim.quiet = true;
-    writeSimSequence(sim, root / "seq");
+    const std::size_t frames = 8;
+    const fs::path root = simLabelledStreet("lidar_label_tiles", frames, 40.0);
     // A 15 m sensor range: 8 m tiles far along the street cannot be reached by the first scans.
     std::string yaml = pipelineYaml("    label_map: semantickitti\n");
     yaml.replace(yaml.find("path: seq}"), 10, "path: seq, max_range_m: 15}");
@@ -192,7 +191,7 @@ TEST_CASE("semantic.mrf in tiles reads only the labelled scans that reach the ti
         // Every frame is read or skipped as out of reach, none lost.
         CHECK(stage["lidar_scans"].get<std::size_t>() +
                   stage["lidar_scans_out_of_reach"].get<std::size_t>() ==
-              sim.frames);
+              frames);
         tiles_skipping_scans += stage["lidar_scans_out_of_reach"].get<std::size_t>() > 0;
         for (const auto& [face, label] :
              facesWithLabels(root / "tiled" / "tiles" / name / "semantic" / "mesh.ply")) {
