@@ -27,6 +27,13 @@ supp="$root/tests/sanitizers"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:suppressions=$supp/ubsan.supp"
 export ASAN_OPTIONS="detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=0"
 export LSAN_OPTIONS="suppressions=$supp/lsan.supp:print_suppressions=0"
-ctest --test-dir "$build_dir" --output-on-failure -j"$(nproc)" "$@"
+ctest --test-dir "$build_dir" --output-on-failure -j"$(nproc)" -LE mpi "$@"
+# The mpirun tests without leak detection: Open MPI 4.1's runtime (opal, hwloc, the mca
+# components it dlopens and closes at MPI_Finalize) keeps allocations for the life of every
+# rank, and their stacks end in unloaded components, so no suppression can name them. ASan's
+# memory errors and UBSan stay on; our code's leaks are checked by the single-process runs of
+# the same tiled pipeline above (TiledPipelineTest, the gather's parts in VdbIOTest).
+ASAN_OPTIONS="${ASAN_OPTIONS/detect_leaks=1/detect_leaks=0}" \
+    ctest --test-dir "$build_dir" --output-on-failure -j"$(nproc)" -L mpi "$@"
 done_at=$(date +%s)
 echo "sanitize.sh: build $((built - start)) s, tests $((done_at - built)) s"

@@ -66,7 +66,9 @@ std::vector<std::string> splitPart(const std::string& part) {
 openvdb::GridBase::Ptr readGrid(const std::string& block, openvdb::MetaMap::Ptr* meta) {
     try {
         std::istringstream is(block, std::ios::binary);
-        openvdb::io::Stream stream(is);
+        // Read now: with delayed loading the leaves would keep reading from a copy of this
+        // stream after their grid was merged into another and freed (ASan: heap-use-after-free).
+        openvdb::io::Stream stream(is, /*delayLoad=*/false);
         const openvdb::GridPtrVecPtr grids = stream.getGrids();
         if (meta) *meta = stream.getMetadata();
         if (!grids || grids->size() != 1) throw IoError("distributed map.vdb: a part's grid is missing");
