@@ -546,6 +546,7 @@ std::size_t AtsdfIntegrator::ScanPass::integrateCell(std::size_t cell_index,
         // No normal (isolated degenerate block): the ray direction (sdf along the ray).
         const bool has_normal = lb.normal.squaredNorm() > 0.0;
         const Vec3f block_normal = lb.normal.cast<float>();
+        const float q_block = blockNoiseRatio(q, lb.flatness);  // per block, not per point
         table.load(blocks_.blockCoord(lb.slot), s_.leaf_bits.data() + b * hood_.words, acc, stamp_);
         for (std::uint32_t k = lb.begin; k < lb.end; ++k) {
             const Vec3f& p = points_W_[s_.order[k]];
@@ -554,7 +555,7 @@ std::size_t AtsdfIntegrator::ScanPass::integrateCell(std::size_t cell_index,
             if (paper_weight) {
                 weight.w_inc = has_normal ? incidenceWeightAlongRay(normal, dir, floor_w) : 1.0f;
             } else {
-                weight.w_inc = noiseWeight(std::abs(normal.dot(dir)), blockNoiseRatio(q, lb.flatness));
+                weight.w_inc = noiseWeight(std::abs(normal.dot(dir)), q_block);
             }
             detail::integrateRay(s_.segment[k], p, dir, normal, eps, vs_f, weight, table);
         }
