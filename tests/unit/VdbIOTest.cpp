@@ -88,8 +88,8 @@ TEST_CASE("map.vdb round trip: grids, classes, values and metadata", "[tsdf][vdb
 
 TEST_CASE("writeMapVdb, one grid at a time, writes what Archive::write writes", "[tsdf][vdb]") {
     // writeMapVdb decodes and writes one grid at a time (the decoded grids of a long drive are
-    // its largest allocation); the file must be Archive::write's file of all grids at once
-    // (writeVdbGrids), byte for byte but for the archive's random UUID.
+    // its largest allocation); the file must be OpenVDB's own file of all grids at once
+    // (io::File::write), byte for byte but for the archive's random UUID.
     SimScene scene;
     scene.add(SimPlane{Vec3d(0, 0, -1.7), Vec3d::UnitZ()});
     VoxelMap map(0.1, 0.3f);
@@ -102,7 +102,9 @@ TEST_CASE("writeMapVdb, one grid at a time, writes what Archive::write writes", 
     fs::remove_all(dir);
     fs::create_directories(dir);
     writeMapVdb(dir / "lazy.vdb", map);
-    writeVdbGrids(dir / "all.vdb", mapVdbGrids(map), mapVdbMetadata(map));
+    openvdb::GridPtrVec grids;
+    for (int i = 0; i < mapVdbGridCount(map); ++i) grids.push_back(mapVdbGrid(map, i));
+    openvdb::io::File((dir / "all.vdb").string()).write(grids, mapVdbMetadata(map));
     auto bytes = [](const fs::path& p) {
         std::ifstream in(p, std::ios::binary);
         return std::string(std::istreambuf_iterator<char>(in), {});

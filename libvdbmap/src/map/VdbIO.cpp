@@ -19,14 +19,10 @@ namespace {
 
 /// openvdb::io::File::write writes through a std::ofstream whose state it never checks, so a
 /// full disk would give a truncated map.vdb. This writes the same seekable archive (what
-/// File::write does) into a stream we own and check.
+/// File::write does) into a stream we own and check, one grid at a time.
 class CheckedVdbWriter : public openvdb::io::Archive {
 public:
-    void writeTo(std::ostream& os, const openvdb::GridPtrVec& grids,
-                 const openvdb::MetaMap& meta) const {
-        Archive::write(os, grids, /*seekable=*/true, meta);
-    }
-    /// The same archive with `count` grids made one at a time by `make(i)` and released once
+    /// The seekable archive of Archive::write with `count` grids made one at a time by `make(i)` and released once
     /// written, so that only one decoded grid is in memory (Archive::write's steps for grids
     /// of unique, non-empty names that share no tree).
     void writeOneByOne(std::ostream& os, int count,
@@ -76,30 +72,11 @@ int mapVdbGridCount(const VoxelMap& map) {
     return 2 + (eps ? 1 : 0) + static_cast<int>(map.extraGrids().size());
 }
 
-openvdb::GridPtrVec mapVdbGrids(const VoxelMap& map) {
-    openvdb::GridPtrVec grids;
-    for (int i = 0; i < mapVdbGridCount(map); ++i) grids.push_back(mapVdbGrid(map, i));
-    return grids;
-}
-
 openvdb::MetaMap mapVdbMetadata(const VoxelMap& map) {
     openvdb::MetaMap meta(map.metadata());
     meta.insertMeta("creator", openvdb::StringMetadata(std::string("vdbmap ") + versionString()));
     if (!meta["voxel_size_m"]) meta.insertMeta("voxel_size_m", openvdb::DoubleMetadata(map.voxelSize()));
     return meta;
-}
-
-void writeVdbGrids(const std::filesystem::path& path, const openvdb::GridPtrVec& grids,
-                   const openvdb::MetaMap& meta) {
-    AtomicFile out(path);
-    std::ofstream stream = detail::openOutput(out.tempPath(), path);
-    try {
-        CheckedVdbWriter().writeTo(stream, grids, meta);
-    } catch (const openvdb::Exception& e) {
-        throw IoError("writeMapVdb: cannot write '" + path.string() + "': " + e.what());
-    }
-    detail::closeOutput(stream, path);  // a full disk or a file-size limit is an IoError here
-    out.commit();
 }
 
 void writeVdbGridsOneByOne(const std::filesystem::path& path, int count,
