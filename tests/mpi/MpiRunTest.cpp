@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 
 #include <array>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -56,6 +57,16 @@ fs::path writeConfig(const fs::path& file, const fs::path& seq, double tile_size
 ChildOptions mpiEnv() {
     ChildOptions options;
     options.env = {{"OMPI_ALLOW_RUN_AS_ROOT", "1"}, {"OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1"}};
+    // Under the sanitizer build (scripts/sanitize.sh): no leak detection in mpirun and its
+    // ranks. Open MPI 4.1's runtime (opal, hwloc, the mca components it dlopens and closes at
+    // MPI_Finalize) keeps allocations for the life of every rank, and their stacks end in
+    // unloaded components, so no suppression can name them. ASan's memory errors and UBSan
+    // stay on; our code's leaks are checked by the single-process runs of the same tiled
+    // pipeline (this file's `vdbmap run` children, TiledPipelineTest). A later ASan option
+    // overrides an earlier one.
+    if (const char* asan = std::getenv("ASAN_OPTIONS")) {
+        options.env.emplace_back("ASAN_OPTIONS", std::string(asan) + ":detect_leaks=0");
+    }
     return options;
 }
 
@@ -68,7 +79,7 @@ std::vector<std::string> mpiArgs(int ranks, const fs::path& config, const fs::pa
 
 TEST_CASE("mpirun -np 3 writes the tiles, index and map of the single-process run", "[mpi][tiles]") {
     const fs::path seq = sequence();
-    const fs::path config = writeConfig(workDir() / "tiled.yaml", seq, 6.4);
+    const fs::path config = writeConfig(workDir() / "tiled.yaml", seq, 12.8);
     const fs::path single = workDir() / "single", mpi = workDir() / "mpi3";
     fs::remove_all(single);
     fs::remove_all(mpi);
@@ -123,7 +134,7 @@ TEST_CASE("A failing rank fails the job with exit 1, names the tile, writes no t
     const fs::path bad_image = broken / "semantic_2" / "000006.png";
     REQUIRE(fs::exists(bad_image));
     std::ofstream(bad_image, std::ios::trunc) << "not a png";
-    const fs::path config = writeConfig(workDir() / "broken.yaml", broken, 6.4);
+    const fs::path config = writeConfig(workDir() / "broken.yaml", broken, 12.8);
     const fs::path out = workDir() / "mpi_broken";
     fs::remove_all(out);
     fs::create_directories(out);
@@ -155,11 +166,12 @@ TEST_CASE("mpirun with more ranks than tiles warns and still writes every tile",
     fs::remove_all(mpi);
     Child one(test::kVdbmapExe, {"run", config.string(), "-o", single.string(), "--quiet"});
     REQUIRE(one.exitCode() == 0);
-    Child job(VDBMAP_MPIEXEC, mpiArgs(8, config, mpi), mpiEnv());
+    // At most 6 tiles within reach (4 written: the street crosses x = 0 and z = 0).
+    Child job(VDBMAP_MPIEXEC, mpiArgs(7, config, mpi), mpiEnv());
     const int code = job.exitCode();
     INFO(job.log());
     CHECK(code == 0);
-    CHECK(job.log().find("8 processes but only") != std::string::npos);
+    CHECK(job.log().find("7 processes but only") != std::string::npos);
     CHECK(job.log().find("process(es) get no tile") != std::string::npos);
     CHECK(readText(single / "tiles.json") == readText(mpi / "tiles.json"));
     CHECK(filesBelow(single / "tiles") == filesBelow(mpi / "tiles"));

@@ -177,7 +177,8 @@ TEST_CASE("semantic.mrf in tiles reads only the labelled scans that reach the ti
     auto untiled = Pipeline::fromString(yaml, "untiled", root);
     Report untiled_report;
     untiled->run(root / "untiled", untiled_report, true);
-    auto tiled = Pipeline::fromString(yaml + "tiling: {tile_size_m: 8, halo_m: 2}\n", "tiled", root);
+    auto tiled = Pipeline::fromString(
+        yaml + "tiling: {tile_size_m: 8, halo_m: 2, occluder_margin_m: 4}\n", "tiled", root);
     Report tiled_report;
     tiled->run(root / "tiled", tiled_report, true);
 
