@@ -41,7 +41,7 @@ if(VDBMAP_BUILD_APPS)
     add_test(NAME install_and_plugin_template
         COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/scripts/install_plugin_template.sh
                 ${PROJECT_BINARY_DIR} ${PROJECT_SOURCE_DIR} ${CMAKE_COMMAND})
-    set_tests_properties(install_and_plugin_template PROPERTIES TIMEOUT 300 LABELS "install")
+    set_tests_properties(install_and_plugin_template PROPERTIES TIMEOUT 300 LABELS "install" COST 30)
 endif()
 
 # The installed headers (libvdbmap/CMakeLists.txt) are closed under #include and cover what

@@ -8,6 +8,7 @@ if(TARGET vdbmap_mpi AND TARGET vdbmap_app AND MPIEXEC_EXECUTABLE)
     target_compile_definitions(MpiRunTest PRIVATE VDBMAP_MPIEXEC="${MPIEXEC_EXECUTABLE}")
     vdbmap_set_warnings(MpiRunTest)
     add_dependencies(MpiRunTest vdbmap_mpi vdbmap_app vdbmap_plugin_texture vdbmap_plugin_semantic)
+    vdbmap_test_cost(MpiRunTest cost)
     catch_discover_tests(MpiRunTest WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR}
-        PROPERTIES TIMEOUT 900 LABELS "mpi")
+        PROPERTIES TIMEOUT 900 LABELS "mpi" COST ${cost})
 endif()
