@@ -3,17 +3,19 @@
 # Installs the Debian 12 packages vdbmap builds against (the one list of them). Idempotent:
 # when every package is present it only checks (dpkg -s) and exits 0. As root it runs
 # `apt-get update` (only if something is missing) and `apt-get install`; otherwise it prints
-# the exact command to run and exits 1.
+# the exact command to run and exits 1. Extra packages a script needs on top of the list (the
+# sanitizer build's clang-14) are given as arguments.
 set -euo pipefail
 
 PACKAGES=(
-    cmake g++ make pkg-config
+    cmake g++ make pkg-config lld
     libopenvdb-dev libboost-iostreams-dev libboost-dev libtbb-dev libimath-dev
     libeigen3-dev libopencv-dev libopenmesh-dev libcgal-dev
     libyaml-cpp-dev catch2 libembree-dev
     libspdlog-dev libfmt-dev libcli11-dev nlohmann-json3-dev
     liblzf-dev
     openmpi-bin libopenmpi-dev
+    "$@"
 )
 
 missing=()
