@@ -104,7 +104,6 @@ TEST_CASE("A tiled run gives the untiled mesh and labels, tile by tile", "[tiles
     // the mesh do not depend on it). The narrow row's occluders reach 3 m past the halo.
     const auto [halo_m, min_agreement] = GENERATE(table<double, double>({{2.0, 0.9}, {60.0, 0.995}}));
     const bool wide = halo_m > 10.0;
-    const bool texture = !wide;
     const double tile_size_m = wide ? 12.8 : 6.4;
     INFO("halo " << halo_m << " m");
     const std::string tiling = "tiling: {tile_size_m: " + std::to_string(tile_size_m) +
@@ -117,7 +116,7 @@ TEST_CASE("A tiled run gives the untiled mesh and labels, tile by tile", "[tiles
             ->run(root / "untiled", untiled_report, true);
     }
     fs::remove_all(root / "tiled");
-    Pipeline::fromString(streetYaml("", tiling, "", texture), "tiled", root)
+    Pipeline::fromString(streetYaml("", tiling, "", /*texture=*/!wide), "tiled", root)
         ->run(root / "tiled", tiled_report, true);
 
     const fs::path out = root / "tiled";
@@ -156,7 +155,7 @@ TEST_CASE("A tiled run gives the untiled mesh and labels, tile by tile", "[tiles
             CHECK(sem.n_faces() == mesh.n_faces());
             const auto faces = labelledFaces(sem, &tile_labels);
             union_labels.insert(faces.begin(), faces.end());
-            CHECK(fs::exists(dir / "textured" / "mesh.obj") == texture);
+            CHECK(fs::exists(dir / "textured" / "mesh.obj") == !wide);
         }
         CHECK(tiled_report.getJson({"tiles", name, "faces"}) == std::to_string(mesh.n_faces()));
     }

@@ -22,9 +22,9 @@ namespace {
 /// File::write does) into a stream we own and check, one grid at a time.
 class CheckedVdbWriter : public openvdb::io::Archive {
 public:
-    /// The seekable archive of Archive::write with `count` grids made one at a time by `make(i)` and released once
-    /// written, so that only one decoded grid is in memory (Archive::write's steps for grids
-    /// of unique, non-empty names that share no tree).
+    /// Archive::write's seekable archive with `count` grids made one at a time by `make(i)`
+    /// and released once written, so that only one decoded grid is in memory (Archive::write's
+    /// steps for grids of unique, non-empty names that share no tree).
     void writeOneByOne(std::ostream& os, int count,
                        const std::function<openvdb::GridBase::Ptr(int)>& make,
                        const openvdb::MetaMap& meta) const {
