@@ -11,7 +11,7 @@
 
 #include <openvdb/math/DDA.h>
 #include <openvdb/math/Ray.h>
-#include <openvdb/openvdb.h>
+#include "vdbmap/map/VdbTrees.h"
 
 #include <cmath>
 #include <cstddef>

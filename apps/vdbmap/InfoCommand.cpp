@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include <openvdb/openvdb.h>
+#include "vdbmap/map/VdbTrees.h"
 
 #include <filesystem>
 #include <iostream>

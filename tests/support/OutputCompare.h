@@ -4,7 +4,7 @@
 #pragma once
 
 #include <openvdb/io/File.h>
-#include <openvdb/openvdb.h>
+#include "vdbmap/map/VdbTrees.h"
 
 #include <array>
 #include <filesystem>

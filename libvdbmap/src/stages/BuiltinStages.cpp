@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // The built-in stages sit above map/, mesh/ and pipeline/: they adapt the algorithms to the
 // Stage interface and register themselves here, so that pipeline/ never includes stages/.
-#include <openvdb/openvdb.h>
+#include "vdbmap/map/VdbTrees.h"
 
 #include <mutex>
 

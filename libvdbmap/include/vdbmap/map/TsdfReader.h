@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 
-#include <openvdb/openvdb.h>
+#include "vdbmap/map/VdbTrees.h"
 #include <openvdb/tree/ValueAccessor.h>
 
 #include <cstdint>
