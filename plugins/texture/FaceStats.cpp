@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 
 #include "Raster.h"
@@ -45,9 +46,34 @@ std::vector<std::vector<std::uint64_t>> observationsPerView(const Visibility& vi
     return per_view;
 }
 
-void computeObservationStats(const cv::Mat& bgr_f32, const Visibility& vis,
-                             const std::vector<std::uint64_t>& obs_indices, bool with_quality,
-                             std::vector<ObservationStats>& stats) {
+cv::Rect observedBounds(const Visibility& vis, const std::vector<std::uint64_t>& obs_indices,
+                        cv::Size image_size, int margin_px) {
+    float x_min = std::numeric_limits<float>::infinity(), y_min = x_min;
+    float x_max = -x_min, y_max = -x_min;
+    for (const std::uint64_t index : obs_indices) {
+        for (const Eigen::Vector2f& p : vis.obs[index].pixels) {
+            x_min = std::min(x_min, p.x());
+            y_min = std::min(y_min, p.y());
+            x_max = std::max(x_max, p.x());
+            y_max = std::max(y_max, p.y());
+        }
+    }
+    if (!(x_min <= x_max && y_min <= y_max)) return {};
+    // Clamp in float first: corners far outside the image must not overflow an int.
+    auto clampTo = [](float value, int size) {
+        return static_cast<int>(std::clamp(value, -1.0f, static_cast<float>(size)));
+    };
+    const int x0 = std::max(0, clampTo(std::floor(x_min), image_size.width) - margin_px);
+    const int y0 = std::max(0, clampTo(std::floor(y_min), image_size.height) - margin_px);
+    const int x1 = std::min(image_size.width, clampTo(std::ceil(x_max), image_size.width) + margin_px + 1);
+    const int y1 = std::min(image_size.height, clampTo(std::ceil(y_max), image_size.height) + margin_px + 1);
+    if (x0 >= x1 || y0 >= y1) return {};
+    return {x0, y0, x1 - x0, y1 - y0};
+}
+
+void computeObservationStats(const cv::Mat& bgr_f32, cv::Point origin, cv::Size image_size,
+                             const Visibility& vis, const std::vector<std::uint64_t>& obs_indices,
+                             bool with_quality, std::vector<ObservationStats>& stats) {
     if (obs_indices.empty()) return;
     // Channels: B G R |grad|; integral image in double (exact sums of ~1e6 values).
     cv::Mat channels;
@@ -60,9 +86,12 @@ void computeObservationStats(const cv::Mat& bgr_f32, const Visibility& vis,
     const int num_channels = channels.channels();
     cv::Mat integral;
     cv::integral(channels, integral, CV_64F);
-    const int width = bgr_f32.cols, height = bgr_f32.rows;
+    // Pixel (x, y) of the whole image is (x - origin.x, y - origin.y) of the crop.
+    const int width = image_size.width, height = image_size.height;
     const int stride = num_channels;
-    auto at = [&](int y, int x) { return integral.ptr<double>(y) + x * stride; };
+    auto at = [&](int y, int x) {
+        return integral.ptr<double>(y - origin.y) + (x - origin.x) * stride;
+    };
 
     for (const std::uint64_t index : obs_indices) {
         const FaceObservation& obs = vis.obs[index];
@@ -86,7 +115,7 @@ void computeObservationStats(const cv::Mat& bgr_f32, const Visibility& vis,
             const Eigen::Vector2f centroid = (obs.pixels[0] + obs.pixels[1] + obs.pixels[2]) / 3.0f;
             const int x = std::clamp(static_cast<int>(std::lround(centroid.x())), 0, width - 1);
             const int y = std::clamp(static_cast<int>(std::lround(centroid.y())), 0, height - 1);
-            const cv::Vec3f c = bgr_f32.at<cv::Vec3f>(y, x);
+            const cv::Vec3f c = bgr_f32.at<cv::Vec3f>(y - origin.y, x - origin.x);
             out.pixels = 1;
             out.mean_bgr = Vec3f(c[0], c[1], c[2]);
             if (with_quality) {

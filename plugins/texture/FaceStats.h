@@ -20,9 +20,22 @@ cv::Mat gradientMagnitude(const cv::Mat& bgr_f32);
 /// over an integral image (O(rows) per face instead of O(area)). A face smaller than a pixel
 /// uses the pixel nearest to its projected centroid. `obs_indices` index `vis.obs`; the results
 /// go to `stats[obs_index]`. With `with_quality` false only the colours are computed.
-void computeObservationStats(const cv::Mat& bgr_f32, const Visibility& vis,
-                             const std::vector<std::uint64_t>& obs_indices, bool with_quality,
-                             std::vector<ObservationStats>& stats);
+/// `bgr_f32` may be a crop of the view's image: its top-left pixel is `origin` of an image of
+/// `image_size` (the pixel coordinates of `vis` are the whole image's). The crop must contain
+/// observedBounds(vis, obs_indices, image_size, kStatsMarginPx).
+void computeObservationStats(const cv::Mat& bgr_f32, cv::Point origin, cv::Size image_size,
+                             const Visibility& vis, const std::vector<std::uint64_t>& obs_indices,
+                             bool with_quality, std::vector<ObservationStats>& stats);
+
+/// The pixels of the whole image a view's statistics read: beyond the observations' projected
+/// corners, one pixel for rounding and one for the 3x3 gradient.
+inline constexpr int kStatsMarginPx = 2;
+
+/// The bounding box of the projected corners of `obs_indices`, grown by `margin_px` and clipped
+/// to the image (empty if nothing lies inside). Why: a tile sees a small part of most of its
+/// views' images; the statistics then cost the part, not the whole image.
+cv::Rect observedBounds(const Visibility& vis, const std::vector<std::uint64_t>& obs_indices,
+                        cv::Size image_size, int margin_px);
 
 /// For every view, the indices into `vis.obs` of its observations (inverse of the CSR).
 std::vector<std::vector<std::uint64_t>> observationsPerView(const Visibility& vis,

@@ -27,23 +27,41 @@ namespace {
 double imageCentreU(const CameraIntrinsics& in) { return (in.width - 1) / 2.0; }
 double imageCentreV(const CameraIntrinsics& in) { return (in.height - 1) / 2.0; }
 
-/// Loads view v, converts to float and applies the vignetting correction of its camera.
+/// Loads view v, converts `crop` of it (default: the whole image) to float and applies the
+/// vignetting correction of its camera there.
 cv::Mat loadCorrected(const ImageLoader& load, const std::vector<View>& views, std::size_t v,
-                      const std::vector<VignettingParams>* vignetting) {
-    cv::Mat image = toFloatBgr(load(v));
+                      const std::vector<VignettingParams>* vignetting, cv::Rect crop = {}) {
+    const cv::Mat image_u8 = load(v);
     const View& view = views[v];
-    if (image.cols != view.intrinsics.width || image.rows != view.intrinsics.height) {
+    if (image_u8.cols != view.intrinsics.width || image_u8.rows != view.intrinsics.height) {
         throw InvalidInput("texture: image of view " + std::to_string(v) + " (frame " +
                            std::to_string(view.frame) + ", camera " + std::to_string(view.camera) +
-                           ") is " + std::to_string(image.cols) + "x" + std::to_string(image.rows) +
-                           " but the camera is " + std::to_string(view.intrinsics.width) + "x" +
+                           ") is " + std::to_string(image_u8.cols) + "x" +
+                           std::to_string(image_u8.rows) + " but the camera is " +
+                           std::to_string(view.intrinsics.width) + "x" +
                            std::to_string(view.intrinsics.height));
     }
+    const cv::Rect whole(0, 0, image_u8.cols, image_u8.rows);
+    crop = crop.empty() ? whole : (crop & whole);
+    cv::Mat image = toFloatBgr(image_u8(crop));
     if (vignetting && view.camera < vignetting->size()) {
         correctVignetting(image, (*vignetting)[view.camera], imageCentreU(view.intrinsics),
-                          imageCentreV(view.intrinsics));
+                          imageCentreV(view.intrinsics), crop.tl());
     }
     return image;
+}
+
+/// The statistics of view v's observations `obs_indices`, read from the part of the image they
+/// cover (FaceStats.h: observedBounds).
+void viewStats(const ImageLoader& load, const std::vector<View>& views, std::size_t v,
+               const std::vector<VignettingParams>* vignetting, const Visibility& vis,
+               const std::vector<std::uint64_t>& obs_indices, bool with_quality,
+               std::vector<ObservationStats>& stats) {
+    const cv::Size image_size(views[v].intrinsics.width, views[v].intrinsics.height);
+    const cv::Rect crop = observedBounds(vis, obs_indices, image_size, kStatsMarginPx);
+    if (crop.empty()) return;
+    const cv::Mat image = loadCorrected(load, views, v, vignetting, crop);
+    computeObservationStats(image, crop.tl(), image_size, vis, obs_indices, with_quality, stats);
 }
 
 /// Bilinear colour at a continuous pixel position (DATA.md convention), clamped to the image.
@@ -128,8 +146,7 @@ std::vector<VignettingEstimate> estimateFromImages(
     Progress progress("texture: vignetting samples", views.size(), quiet);
     tbb::parallel_for(std::size_t{0}, views.size(), [&](std::size_t v) {
         if (!per_view[v].empty()) {
-            const cv::Mat image = loadCorrected(load, views, v, nullptr);
-            computeObservationStats(image, vis, per_view[v], false, raw);
+            viewStats(load, views, v, nullptr, vis, per_view[v], false, raw);
         }
         progress.tick();
     });
@@ -275,8 +292,7 @@ std::vector<ObservationStats> observationPass(const std::vector<View>& views,
     Progress progress("texture: data term", views.size(), quiet);
     tbb::parallel_for(std::size_t{0}, views.size(), [&](std::size_t v) {
         if (!per_view[v].empty()) {
-            const cv::Mat image = loadCorrected(load, views, v, vignetting);
-            computeObservationStats(image, vis, per_view[v], true, obs_stats);
+            viewStats(load, views, v, vignetting, vis, per_view[v], true, obs_stats);
         }
         progress.tick();
     });

@@ -23,7 +23,8 @@ double vignettingGain(const VignettingParams& params, double r) {
     return 1.0 + r2 * (params.a + r2 * (params.b + r2 * params.c));
 }
 
-void correctVignetting(cv::Mat& image_f32, const VignettingParams& params, double cu, double cv) {
+void correctVignetting(cv::Mat& image_f32, const VignettingParams& params, double cu, double cv,
+                       cv::Point origin) {
     if (image_f32.type() != CV_32FC3) {
         throw InvalidInput("correctVignetting: expected a CV_32FC3 image, got type " +
                            std::to_string(image_f32.type()));
@@ -33,7 +34,7 @@ void correctVignetting(cv::Mat& image_f32, const VignettingParams& params, doubl
         auto* row = image_f32.ptr<cv::Vec3f>(y);
         for (int x = 0; x < image_f32.cols; ++x) {
             const float g =
-                static_cast<float>(vignettingGain(params, vignettingRadius(x, y, cu, cv)));
+                static_cast<float>(vignettingGain(params, vignettingRadius(x + origin.x, y + origin.y, cu, cv)));
             row[x] *= g;  // Paper: I'(u, v) = g(r) * I(u, v)
         }
     }

@@ -23,9 +23,11 @@ double vignettingRadius(double u, double v, double cu, double cv);
 /// Gain g(r) = 1 + a r^2 + b r^4 + c r^6.
 double vignettingGain(const VignettingParams& params, double r);
 
-/// Multiplies every pixel of a CV_32FC3 image by g(r) in place (Paper: I' = g(r) I).
-/// Throws InvalidInput on another image type.
-void correctVignetting(cv::Mat& image_f32, const VignettingParams& params, double cu, double cv);
+/// Multiplies every pixel of a CV_32FC3 image by g(r) in place (Paper: I' = g(r) I). The image
+/// may be a crop whose top-left pixel is `origin` of the camera's image. Throws InvalidInput
+/// on another image type.
+void correctVignetting(cv::Mat& image_f32, const VignettingParams& params, double cu, double cv,
+                       cv::Point origin = {0, 0});
 
 /// One face seen in one view, for the estimation: the mean luminance of the face and the
 /// normalised radius of its centroid.
