@@ -80,13 +80,15 @@ AtlasLayout layoutAtlas(const std::vector<Patch>& patches,
     return layout;
 }
 
-void cutChart(const cv::Mat& image_f32, const Chart& chart, cv::Mat& page) {
+void cutChart(const cv::Mat& image_f32, const Chart& chart, cv::Mat& page, cv::Point origin,
+              cv::Size image_size) {
+    if (image_size.empty()) image_size = image_f32.size();
     for (int j = 0; j < chart.size.height; ++j) {
-        const int sy = std::clamp(chart.y0 + j, 0, image_f32.rows - 1);
+        const int sy = std::clamp(chart.y0 + j, 0, image_size.height - 1) - origin.y;
         const auto* src = image_f32.ptr<cv::Vec3f>(sy);
         auto* dst = page.ptr<cv::Vec3b>(chart.place.y + j) + chart.place.x;
         for (int i = 0; i < chart.size.width; ++i) {
-            const int sx = std::clamp(chart.x0 + i, 0, image_f32.cols - 1);
+            const int sx = std::clamp(chart.x0 + i, 0, image_size.width - 1) - origin.x;
             const cv::Vec3f& c = src[sx];
             dst[i] = cv::Vec3b(cv::saturate_cast<uchar>(c[0]), cv::saturate_cast<uchar>(c[1]),
                                cv::saturate_cast<uchar>(c[2]));

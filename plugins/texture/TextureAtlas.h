@@ -50,8 +50,11 @@ AtlasLayout layoutAtlas(const std::vector<Patch>& patches,
                         std::size_t num_faces, int padding_px, int max_size_px, int fill_cells = 1);
 
 /// Copies the chart's source rectangle of `image_f32` (CV_32FC3, coordinates clamped to the
-/// image) into `page` (CV_8UC3) at its placement, rounding and saturating.
-void cutChart(const cv::Mat& image_f32, const Chart& chart, cv::Mat& page);
+/// image) into `page` (CV_8UC3) at its placement, rounding and saturating. `image_f32` may be a
+/// crop whose top-left pixel is `origin` of an image of `image_size` (default: the whole image)
+/// that holds the clamped rectangle.
+void cutChart(const cv::Mat& image_f32, const Chart& chart, cv::Mat& page,
+              cv::Point origin = {0, 0}, cv::Size image_size = {});
 
 /// Adds the global colour adjustment to a chart already in `page`: inside each face the
 /// correction is interpolated barycentrically from its corners (paper Sec. 5.2.3); padding

@@ -64,15 +64,23 @@ void viewStats(const ImageLoader& load, const std::vector<View>& views, std::siz
     computeObservationStats(image, crop.tl(), image_size, vis, obs_indices, with_quality, stats);
 }
 
+/// Part of a view's image: `pixels` (CV_32FC3) is the crop at `origin` of an image of `size`.
+struct ImageCrop {
+    cv::Mat pixels;
+    cv::Point origin;
+    cv::Size size;
+};
+
 /// Bilinear colour at a continuous pixel position (DATA.md convention), clamped to the image.
-Vec3f sampleBilinear(const cv::Mat& image_f32, const Eigen::Vector2f& p) {
-    const float x = std::clamp(p.x(), 0.0f, float(image_f32.cols - 1));
-    const float y = std::clamp(p.y(), 0.0f, float(image_f32.rows - 1));
+Vec3f sampleBilinear(const ImageCrop& image, const Eigen::Vector2f& p) {
+    const int width = image.size.width, height = image.size.height;
+    const float x = std::clamp(p.x(), 0.0f, float(width - 1));
+    const float y = std::clamp(p.y(), 0.0f, float(height - 1));
     const int x0 = static_cast<int>(std::floor(x)), y0 = static_cast<int>(std::floor(y));
-    const int x1 = std::min(x0 + 1, image_f32.cols - 1), y1 = std::min(y0 + 1, image_f32.rows - 1);
+    const int x1 = std::min(x0 + 1, width - 1), y1 = std::min(y0 + 1, height - 1);
     const float tx = x - x0, ty = y - y0;
     auto at = [&](int yy, int xx) {
-        const cv::Vec3f& c = image_f32.at<cv::Vec3f>(yy, xx);
+        const cv::Vec3f& c = image.pixels.at<cv::Vec3f>(yy - image.origin.y, xx - image.origin.x);
         return Vec3f(c[0], c[1], c[2]);
     };
     return (1 - ty) * ((1 - tx) * at(y0, x0) + tx * at(y0, x1)) +
@@ -81,15 +89,27 @@ Vec3f sampleBilinear(const cv::Mat& image_f32, const Eigen::Vector2f& p) {
 
 /// f_v of the seam-levelling equation: the mean colour along the seam edge from `from` to the
 /// edge midpoint (Lempitsky & Ivanov sample along the edge next to the vertex).
-Vec3f sampleSeamEnd(const cv::Mat& image_f32, const Eigen::Vector2f& from,
+Vec3f sampleSeamEnd(const ImageCrop& image, const Eigen::Vector2f& from,
                     const Eigen::Vector2f& to) {
     constexpr int kSamples = 5;
     Vec3f sum = Vec3f::Zero();
     for (int k = 0; k < kSamples; ++k) {
         const float t = 0.5f * static_cast<float>(k) / kSamples;
-        sum += sampleBilinear(image_f32, from + t * (to - from));
+        sum += sampleBilinear(image, from + t * (to - from));
     }
     return sum / static_cast<float>(kSamples);
+}
+
+/// The pixels a rectangle reads with its coordinates clamped to the image (never empty).
+cv::Rect clampedRect(int x0, int y0, int x1, int y1, cv::Size size) {
+    const int cx0 = std::clamp(x0, 0, size.width - 1), cy0 = std::clamp(y0, 0, size.height - 1);
+    const int cx1 = std::clamp(x1, 0, size.width - 1), cy1 = std::clamp(y1, 0, size.height - 1);
+    return {cx0, cy0, cx1 - cx0 + 1, cy1 - cy0 + 1};
+}
+
+/// Pixel of a continuous coordinate, clamped to [-1, limit] first (no int overflow).
+int pixelFloor(float value, int limit) {
+    return static_cast<int>(std::floor(std::clamp(value, -1.0f, static_cast<float>(limit))));
 }
 
 int cornerOf(const std::array<std::uint32_t, 3>& face, std::uint32_t vertex) {
@@ -367,6 +387,37 @@ Layout layoutPhase(const MeshArrays& mesh, const Visibility& vis,
     return out;
 }
 
+/// The part of view v's image the atlas pass reads: its charts' source rectangles and the
+/// seam samples of its faces (why: as FaceStats.h observedBounds).
+ImageCrop atlasCrop(const ImageLoader& load, const std::vector<View>& views, std::size_t v,
+                    const std::vector<VignettingParams>* vignetting, const MeshArrays& mesh,
+                    const Layout& layout, const std::vector<std::uint32_t>& charts,
+                    const std::vector<std::pair<std::uint32_t, bool>>& seams) {
+    const cv::Size size(views[v].intrinsics.width, views[v].intrinsics.height);
+    cv::Rect crop;
+    auto add = [&](const cv::Rect& r) { crop = crop.empty() ? r : (crop | r); };
+    for (std::uint32_t c : charts) {
+        const Chart& chart = layout.atlas.charts[c];
+        add(clampedRect(chart.x0, chart.y0, chart.x0 + chart.size.width - 1,
+                        chart.y0 + chart.size.height - 1, size));
+    }
+    for (const auto& [k, side_a] : seams) {
+        const SeamEdge& s = layout.seams[k];
+        const std::uint32_t face = side_a ? s.face_a : s.face_b;
+        const auto& px = layout.face_pixels[face];
+        for (const std::uint32_t vertex : {s.v0, s.v1}) {
+            const Eigen::Vector2f& p = px[cornerOf(mesh.faces[face], vertex)];
+            const int x = pixelFloor(p.x(), size.width), y = pixelFloor(p.y(), size.height);
+            add(clampedRect(x, y, x + 1, y + 1, size));  // bilinear: the pixel and the next
+        }
+    }
+    ImageCrop image;
+    image.pixels = loadCorrected(load, views, v, vignetting, crop);
+    image.origin = crop.tl();
+    image.size = size;
+    return image;
+}
+
 // Phase (pass 2): cut the charts from the (corrected) chosen views and sample the seams.
 std::vector<SeamSamples> atlasPass(const MeshArrays& mesh, const std::vector<View>& views,
                                    const ImageLoader& load,
@@ -386,10 +437,12 @@ std::vector<SeamSamples> atlasPass(const MeshArrays& mesh, const std::vector<Vie
     Progress progress("texture: atlas", views.size(), quiet);
     tbb::parallel_for(std::size_t{0}, views.size(), [&](std::size_t v) {
         if (!charts_of_view[v].empty() || !seams_of_view[v].empty()) {
-            const cv::Mat image = loadCorrected(load, views, v, vignetting);
+            const ImageCrop image = atlasCrop(load, views, v, vignetting, mesh, layout,
+                                              charts_of_view[v], seams_of_view[v]);
             for (std::uint32_t c : charts_of_view[v]) {
                 const Chart& chart = layout.atlas.charts[c];
-                cutChart(image, chart, result.pages[chart.place.page]);
+                cutChart(image.pixels, chart, result.pages[chart.place.page], image.origin,
+                         image.size);
             }
             for (const auto& [k, side_a] : seams_of_view[v]) {
                 const SeamEdge& s = seams[k];

@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: Apache-2.0
-// The statistics of a view read from the crop its observations cover (observedBounds) are
-// those read from the whole image: the whole-image computation is the oracle.
+// What the texture passes read from the crop of a view's image they need (the statistics from
+// observedBounds, the charts from their clamped source rectangles) is what they read from the
+// whole image: the whole-image computation is the oracle.
 #include <catch2/catch.hpp>
 #include <random>
 
 #include "FaceStats.h"
+#include "TextureAtlas.h"
 #include "Vignetting.h"
 
 using namespace vdbmap;
@@ -109,4 +111,28 @@ TEST_CASE("vignetting correction of a crop equals the crop of the corrected imag
     cv::Mat wrong = image(crop).clone();
     correctVignetting(wrong, params, cu, cv_centre);
     CHECK(cv::norm(wrong, whole(crop), cv::NORM_INF) > 1.0);
+}
+
+TEST_CASE("a chart cut from a crop equals the chart cut from the whole image", "[texture]") {
+    std::mt19937 rng(5);
+    const int width = 70, height = 40;
+    const cv::Mat image = randomImage(width, height, rng);
+    Chart chart;
+    chart.size = {18, 12};
+    chart.place = {0, 3, 2};
+    const auto [x0, y0] = GENERATE(table<int, int>({{20, 10}, {-6, -4}, {60, 33}}));
+    INFO("chart at " << x0 << ", " << y0);
+    chart.x0 = x0;
+    chart.y0 = y0;
+    // The rectangle the chart reads, its coordinates clamped to the image.
+    const int cx0 = std::clamp(x0, 0, width - 1), cy0 = std::clamp(y0, 0, height - 1);
+    const int cx1 = std::clamp(x0 + chart.size.width - 1, 0, width - 1);
+    const int cy1 = std::clamp(y0 + chart.size.height - 1, 0, height - 1);
+    const cv::Rect crop(cx0, cy0, cx1 - cx0 + 1, cy1 - cy0 + 1);
+    cv::Mat whole_page(20, 25, CV_8UC3, cv::Scalar::all(0));
+    cv::Mat crop_page = whole_page.clone();
+    cutChart(image, chart, whole_page);
+    cutChart(image(crop).clone(), chart, crop_page, crop.tl(), image.size());
+    CHECK(cv::norm(whole_page, crop_page, cv::NORM_INF) == 0);
+    CHECK(cv::norm(whole_page, cv::NORM_INF) > 0);
 }
