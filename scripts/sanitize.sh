@@ -6,7 +6,7 @@
 # UBSan report or leak fails the test that shows it. Suppressions: tests/sanitizers/*.supp
 # (commented). clang rather than GCC: with both sanitizers on, GCC 12 takes 1.7 to 1.8 times
 # as long per file (VoxelMap.cpp 160 s against 93 s, a test file 27 s against 15 s).
-# SANITIZE_CXX / SANITIZE_CC override. `SANITIZE=1 .ci/run` runs it after the release suite.
+# SANITIZE_CXX / SANITIZE_CC override. `.ci/run` runs it after the release suite.
 # The optional GPL plugin plugins/cgal is left out here (CGAL's templates would double the
 # build time; its tests run in the release suite of scripts/test.sh).
 set -euo pipefail
