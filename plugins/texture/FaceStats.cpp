@@ -65,8 +65,10 @@ cv::Rect observedBounds(const Visibility& vis, const std::vector<std::uint64_t>&
     };
     const int x0 = std::max(0, clampTo(std::floor(x_min), image_size.width) - margin_px);
     const int y0 = std::max(0, clampTo(std::floor(y_min), image_size.height) - margin_px);
-    const int x1 = std::min(image_size.width, clampTo(std::ceil(x_max), image_size.width) + margin_px + 1);
-    const int y1 = std::min(image_size.height, clampTo(std::ceil(y_max), image_size.height) + margin_px + 1);
+    const int x1 =
+        std::min(image_size.width, clampTo(std::ceil(x_max), image_size.width) + margin_px + 1);
+    const int y1 =
+        std::min(image_size.height, clampTo(std::ceil(y_max), image_size.height) + margin_px + 1);
     if (x0 >= x1 || y0 >= y1) return {};
     return {x0, y0, x1 - x0, y1 - y0};
 }
