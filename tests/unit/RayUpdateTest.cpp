@@ -38,8 +38,8 @@ struct RecordingSink {
         leaf = origin;
         return true;
     }
-    void update(const int* ijk, unsigned offset, float sdf, float w) {
-        const Coord c(ijk[0], ijk[1], ijk[2]);
+    void update(int i, int j, int k, unsigned offset, float sdf, float w) {
+        const Coord c(i, j, k);
         if ((c & ~7) != leaf || offset != openvdb::FloatTree::LeafNodeType::coordToOffset(c))
             ++bad_bookkeeping;
         updates.push_back({c, sdf, w});
@@ -132,7 +132,7 @@ TEST_CASE("Fast ray kernel skips the voxels of missing leaves", "[tsdf][kernel]"
     struct OneLeafSink {
         std::vector<int> xs;
         bool enterLeaf(const Coord& origin) { return origin == Coord(0, 0, 0); }
-        void update(const int* ijk, unsigned, float, float) { xs.push_back(ijk[0]); }
+        void update(int i, int, int, unsigned, float, float) { xs.push_back(i); }
     } sink;
     const Vec3f p(0.0f, 0.02f, 0.02f), dir(1.0f, 0.0f, 0.0f), n(-1.0f, 0.0f, 0.0f);
     detail::RayWeight weight;

@@ -537,7 +537,7 @@ std::size_t AtsdfIntegrator::ScanPass::integrateCell(std::size_t cell_index,
         weight.inv_falloff2 = static_cast<float>(1.0 / (config_.falloff_m * config_.falloff_m));
         weight.falloff_floor = floor_w;
     }
-    const std::size_t updates_before = table.updates();
+    std::size_t updates = 0;
     for (std::uint32_t i = s_.cell_begin[cell_index]; i < s_.cell_begin[cell_index + 1]; ++i) {
         const std::uint32_t b = s_.by_cell[i];
         const LocalBlock& lb = s_.local[b];
@@ -557,10 +557,10 @@ std::size_t AtsdfIntegrator::ScanPass::integrateCell(std::size_t cell_index,
             } else {
                 weight.w_inc = noiseWeight(std::abs(normal.dot(dir)), q_block);
             }
-            detail::integrateRay(s_.segment[k], p, dir, normal, eps, vs_f, weight, table);
+            updates += detail::integrateRay(s_.segment[k], p, dir, normal, eps, vs_f, weight, table);
         }
     }
-    return table.updates() - updates_before;
+    return updates;
 }
 
 void AtsdfIntegrator::ScanPass::integrate(IntegrationStats& st) {

@@ -88,13 +88,10 @@ public:
         return current_.values != nullptr;
     }
 
-    void update(const int*, unsigned offset, float sdf_m, float w) {
+    void update(int, int, int, unsigned offset, float sdf_m, float w) {
         runningAverage(current_.values[offset], current_.mask[offset >> 6],
                        std::uint64_t{1} << (offset & 63), sdf_m, w, max_weight_, codec_);
-        ++updates_;
     }
-
-    std::size_t updates() const { return updates_; }
 
 private:
     struct Entry {
@@ -107,7 +104,6 @@ private:
     std::vector<Entry> entries_;
     openvdb::Coord bc_;
     Entry current_;
-    std::size_t updates_ = 0;
 };
 
 }  // namespace vdbmap::detail

@@ -3,9 +3,12 @@
 
 #include <openvdb/math/Coord.h>
 
+#include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 
+#include "map/FastReciprocal.h"
 #include "vdbmap/core/Types.h"
 #include "vdbmap/map/MeasurementWeight.h"
 
@@ -62,86 +65,106 @@ struct RayWeight {
     float falloff_floor = 1.0f;  ///< distanceFalloff's floor
 };
 
+/// One axis of the Amanatides-Woo walk of integrateRay: the voxel index along it and what a
+/// step along it adds to the ray parameter, the sdf, t and the offset in the leaf.
+struct WalkAxis {
+    int ijk = 0;
+    int step = 0;         ///< +1, -1 or 0 (the ray is parallel to the axis)
+    int d_offset = 0;     ///< step * stride of the axis in LeafNode<.., 3>::coordToOffset
+    int entry_local = 0;  ///< the local coordinate (0 or 7) at which a step enters a new leaf
+    float t_max = 0.0f;   ///< ray parameter (voxels) of the next crossing of this axis
+    float t_delta = 0.0f;
+    float d_sdf = 0.0f;  ///< step * normal * voxel
+    float d_t = 0.0f;    ///< step * dir * voxel
+
+    WalkAxis(float start_idx, float dir, float normal, float voxel_m, int stride) {
+        constexpr float kInf = std::numeric_limits<float>::infinity();
+        ijk = floorToInt(start_idx);
+        if (dir > 0.0f) {
+            step = 1;
+            t_delta = 1.0f / dir;
+            t_max = (static_cast<float>(ijk) + 1.0f - start_idx) * t_delta;
+        } else if (dir < 0.0f) {
+            step = -1;
+            t_delta = -1.0f / dir;
+            t_max = (start_idx - static_cast<float>(ijk)) * t_delta;
+        } else {
+            t_delta = kInf;
+            t_max = kInf;
+        }
+        d_sdf = static_cast<float>(step) * normal * voxel_m;
+        d_t = static_cast<float>(step) * dir * voxel_m;
+        d_offset = step * stride;
+        entry_local = step > 0 ? 0 : 7;
+    }
+};
+
 /// The voxel updates of one measurement point (paper Sec. 4.2). Every voxel v pierced by the
 /// segment (Amanatides-Woo order along the ray) gets
 ///   sdf = n . (c_v - p), clamped to [-eps, eps]    (c_v: voxel centre, n: block normal)
 ///   w   = RayWeight: w_inc * distanceFalloff(t) * f(sdf), f = 1 for sdf >= -voxel, then
 ///         linear to 0 at -eps (behindSurfaceFactor), t = (c_v - p) . dir
 /// The sink is told the 8^3 leaf the walk is in, `enterLeaf(origin)` (false: no such leaf, its
-/// voxels are skipped), and gets `update(ijk, offset_in_leaf, sdf_m, w)` for every voxel with
-/// w > 0. The sdf, t, the offset in the leaf and the leaf crossings are carried incrementally
-/// along the walk: float arithmetic, one division per voxel (the falloff).
+/// voxels are skipped), and gets `update(i, j, k, offset_in_leaf, sdf_m, w)` for every voxel
+/// with w > 0. The sdf, t, the offset in the leaf and the leaf crossings are carried
+/// incrementally along the walk: float arithmetic, no division per voxel (FastReciprocal.h). The
+/// three axes are separate objects and the step is a branch per axis, so that the walk's state
+/// stays in registers (no array indexed by the stepping axis). Returns the number of updates.
 template <typename Sink>
-inline void integrateRay(const RaySegment& seg, const Vec3f& p_W, const Vec3f& dir_W,
-                         const Vec3f& normal_W, float eps_m, float voxel_m, const RayWeight& weight,
-                         Sink& sink) {
-    constexpr float kInf = std::numeric_limits<float>::infinity();
-    constexpr int kStride[3] = {64, 8, 1};  // LeafNode<.., 3>::coordToOffset
-    int ijk[3];
-    int step[3];
-    int d_offset[3];
-    float t_max[3];
-    float t_delta[3];
-    float d_sdf[3];
-    float d_t[3];
-    for (int k = 0; k < 3; ++k) {
-        const float a = seg.start_idx[k];
-        const int fl = floorToInt(a);
-        ijk[k] = fl;
-        const float d = dir_W[k];
-        if (d > 0.0f) {
-            step[k] = 1;
-            t_delta[k] = 1.0f / d;
-            t_max[k] = (static_cast<float>(fl) + 1.0f - a) * t_delta[k];
-        } else if (d < 0.0f) {
-            step[k] = -1;
-            t_delta[k] = -1.0f / d;
-            t_max[k] = (a - static_cast<float>(fl)) * t_delta[k];
-        } else {
-            step[k] = 0;
-            t_delta[k] = kInf;
-            t_max[k] = kInf;
-        }
-        d_sdf[k] = static_cast<float>(step[k]) * normal_W[k] * voxel_m;
-        d_t[k] = static_cast<float>(step[k]) * dir_W[k] * voxel_m;
-        d_offset[k] = step[k] * kStride[k];
-    }
-    float sdf = normal_W.x() * (static_cast<float>(ijk[0]) * voxel_m - p_W.x()) +
-                normal_W.y() * (static_cast<float>(ijk[1]) * voxel_m - p_W.y()) +
-                normal_W.z() * (static_cast<float>(ijk[2]) * voxel_m - p_W.z());
-    float t = dir_W.x() * (static_cast<float>(ijk[0]) * voxel_m - p_W.x()) +
-              dir_W.y() * (static_cast<float>(ijk[1]) * voxel_m - p_W.y()) +
-              dir_W.z() * (static_cast<float>(ijk[2]) * voxel_m - p_W.z());
+inline std::size_t integrateRay(const RaySegment& seg, const Vec3f& p_W, const Vec3f& dir_W,
+                                const Vec3f& normal_W, float eps_m, float voxel_m,
+                                const RayWeight& weight, Sink& sink) {
+    WalkAxis ax(seg.start_idx.x(), dir_W.x(), normal_W.x(), voxel_m, 64);
+    WalkAxis ay(seg.start_idx.y(), dir_W.y(), normal_W.y(), voxel_m, 8);
+    WalkAxis az(seg.start_idx.z(), dir_W.z(), normal_W.z(), voxel_m, 1);
+    const Vec3f c0_minus_p(static_cast<float>(ax.ijk) * voxel_m - p_W.x(),
+                           static_cast<float>(ay.ijk) * voxel_m - p_W.y(),
+                           static_cast<float>(az.ijk) * voxel_m - p_W.z());
+    float sdf = normal_W.x() * c0_minus_p.x() + normal_W.y() * c0_minus_p.y() +
+                normal_W.z() * c0_minus_p.z();
+    float t = dir_W.x() * c0_minus_p.x() + dir_W.y() * c0_minus_p.y() + dir_W.z() * c0_minus_p.z();
     auto offsetOf = [&]() {
-        return static_cast<unsigned>(((ijk[0] & 7) << 6) | ((ijk[1] & 7) << 3) | (ijk[2] & 7));
+        return static_cast<unsigned>(((ax.ijk & 7) << 6) | ((ay.ijk & 7) << 3) | (az.ijk & 7));
     };
-    auto originOf = [&]() { return openvdb::Coord(ijk[0] & ~7, ijk[1] & ~7, ijk[2] & ~7); };
+    auto originOf = [&]() { return openvdb::Coord(ax.ijk & ~7, ay.ijk & ~7, az.ijk & ~7); };
     unsigned offset = offsetOf();
     bool in_leaf = sink.enterLeaf(originOf());
-    // A segment of length L crosses at most L * sqrt(3) + 3 voxel faces.
-    const int max_steps = static_cast<int>(seg.length_idx * 1.7320508f + 4.0f);
-    for (int s = 0; s < max_steps; ++s) {
-        const float d = sdf > eps_m ? eps_m : (sdf < -eps_m ? -eps_m : sdf);
-        const float w = weight.w_inc *
-                        distanceFalloff(t, weight.inv_falloff2, weight.falloff_floor) *
-                        behindSurfaceFactor(d, eps_m, voxel_m, weight.inv_dropoff);
-        if (in_leaf && w > 0.0f) sink.update(ijk, offset, d, w);
-        const int axis = t_max[0] < t_max[1] ? (t_max[0] < t_max[2] ? 0 : 2)
-                                             : (t_max[1] < t_max[2] ? 1 : 2);
-        if (t_max[axis] > seg.length_idx) break;
-        ijk[axis] += step[axis];
-        t_max[axis] += t_delta[axis];
-        sdf += d_sdf[axis];
-        t += d_t[axis];
+    const float length_idx = seg.length_idx;
+    const float w_inc = weight.w_inc, inv_falloff2 = weight.inv_falloff2,
+                falloff_floor = weight.falloff_floor, inv_dropoff = weight.inv_dropoff;
+    // One step along axis a; false at the end of the segment.
+    auto advance = [&](WalkAxis& a) {
+        if (a.t_max > length_idx) return false;
+        a.ijk += a.step;
+        a.t_max += a.t_delta;
+        sdf += a.d_sdf;
+        t += a.d_t;
         // Stepping forward into local coordinate 0, or backward into 7, enters a new leaf.
-        const int local = ijk[axis] & 7;
-        if (local == (step[axis] > 0 ? 0 : 7)) {
+        if ((a.ijk & 7) == a.entry_local) {
             offset = offsetOf();
             in_leaf = sink.enterLeaf(originOf());
         } else {
-            offset = static_cast<unsigned>(static_cast<int>(offset) + d_offset[axis]);
+            offset = static_cast<unsigned>(static_cast<int>(offset) + a.d_offset);
         }
+        return true;
+    };
+    std::size_t updates = 0;
+    // A segment of length L crosses at most L * sqrt(3) + 3 voxel faces.
+    const int max_steps = static_cast<int>(length_idx * 1.7320508f + 4.0f);
+    for (int s = 0; s < max_steps; ++s) {
+        const float d = sdf > eps_m ? eps_m : (sdf < -eps_m ? -eps_m : sdf);
+        // distanceFalloff (MeasurementWeight.h) with the reciprocal estimate for its division.
+        const float falloff = std::max(falloff_floor, fastReciprocal(1.0f + t * t * inv_falloff2));
+        const float w = w_inc * falloff * behindSurfaceFactor(d, eps_m, voxel_m, inv_dropoff);
+        if (in_leaf && w > 0.0f) {
+            sink.update(ax.ijk, ay.ijk, az.ijk, offset, d, w);
+            ++updates;
+        }
+        const bool more = ax.t_max < ay.t_max ? (ax.t_max < az.t_max ? advance(ax) : advance(az))
+                                              : (ay.t_max < az.t_max ? advance(ay) : advance(az));
+        if (!more) break;
     }
+    return updates;
 }
 
 }  // namespace vdbmap::detail

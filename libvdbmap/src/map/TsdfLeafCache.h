@@ -6,18 +6,22 @@
 
 #include <cstdint>
 
+#include "map/FastReciprocal.h"
 #include "vdbmap/map/TsdfVoxel.h"
 
 namespace vdbmap::detail {
 
 /// Running weighted average of one observed packed voxel (paper Sec. 4.2):
-/// D' = (W D + w d) / (W + w), W' = min(W + w, max_weight).
+/// D' = (W D + w d) / (W + w), W' = min(W + w, max_weight). The division is a refined
+/// reciprocal estimate (FastReciprocal.h): its error, ~1e-7 relative, is far below the 16-bit
+/// sdf quantum.
 inline void observedAverage(std::uint32_t& value, float sdf_m, float w, float max_weight,
                             const TsdfCodec& codec) {
     const float W = codec.weight(value);
     const float D = codec.sdf(value);
     const float sum = W + w;
-    value = codec.encode((W * D + w * sdf_m) / sum, sum < max_weight ? sum : max_weight);
+    value = codec.encode((W * D + w * sdf_m) * fastReciprocal(sum),
+                         sum < max_weight ? sum : max_weight);
 }
 
 /// observedAverage, or for an unobserved voxel (its bit in the leaf's value mask off): it takes
