@@ -1,7 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <catch2/catch.hpp>
+#include <sys/stat.h>
+
 #include <cmath>
 #include <limits>
+#include <string>
+#include <thread>
 
 #include "unit/IoTestUtil.h"
 #include "vdbmap/io/Dataset.h"
@@ -82,4 +86,32 @@ TEST_CASE("filterScan drops non-finite and out-of-range points and counts them",
     CHECK(cloud.points[0] == Vec3f(5, 0, 0));
     CHECK(cloud.points[1] == Vec3f(0, 0, -2));
     CHECK(cloud.intensity == std::vector<float>{1, 6});
+}
+
+TEST_CASE("Scans read the same from a regular file, an empty file and a pipe", "[io][bin]") {
+    // Reading must not depend on seeking or on knowing the size beforehand: a FIFO (a scan
+    // streamed by another process) has neither.
+    test::TempDir dir;
+    const std::string bytes = test::readBytes(kScans / "000000.bin");
+    const PointCloud whole = readBin(kScans / "000000.bin");
+    REQUIRE(whole.size() == bytes.size() / 16);
+    test::writeText(dir / "empty.bin", "");
+    CHECK(readBin(dir / "empty.bin").size() == 0);
+    const std::filesystem::path fifo = dir / "pipe.bin";
+    REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+    std::thread writer([&] { test::writeText(fifo, bytes); });
+    PointCloud piped;
+    std::string error;
+    try {
+        piped = readBin(fifo);
+    } catch (const std::exception& e) {
+        error = e.what();
+        test::readBytes(fifo);  // let the writer finish: a failure, not a hang
+    }
+    writer.join();
+    REQUIRE(error.empty());
+    REQUIRE(piped.size() == whole.size());
+    for (std::size_t i = 0; i < whole.size(); i += 997) CHECK(piped.points[i] == whole.points[i]);
+    CHECK(piped.points.back() == whole.points.back());
+    CHECK(piped.intensity.back() == whole.intensity.back());
 }
