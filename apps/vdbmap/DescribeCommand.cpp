@@ -116,7 +116,7 @@ int describe(const DescribeArgs& args) {
                   << "  tiles.json indexes them (README: tiled outputs). A tile smaller than one\n"
                   << "  voxel leaf (8 voxels) or a negative halo is a config error.\n";
         printSpec(spec);
-        std::cout << "  e.g.\n    tiling: {tile_size_m: 64, halo_m: 4, max_view_distance_m: 60}\n";
+        std::cout << "  e.g.\n    tiling: {tile_size_m: 64, halo_m: 4, max_view_distance_m: 40}\n";
         return 0;
     }
     loadPlugins(args.plugins);

@@ -16,7 +16,7 @@ struct TilePlanOptions {
     /// (farther points are dropped) plus the integrator's update reach (truncation band, the
     /// block statistics a point reads). Must be finite and >= 0.
     double scan_reach_m = 0.0;
-    double max_view_distance_m = 60.0;  ///< TilingConfig::max_view_distance_m
+    double max_view_distance_m = 40.0;  ///< TilingConfig::max_view_distance_m
     int processes = 1;                  ///< processes (MPI ranks) to spread the tiles over, >= 1
     /// false: every tile is finished after the last frame (TilingConfig::stream).
     bool stream = true;
