@@ -7,7 +7,10 @@
 # recall@10 cm). Prints one line per run (docs/results/geometry.md).
 # Usage: scripts/experiments/truncation.sh
 #   env: BUILD, OUT, FRAMES=50, RUNS="0.10:0.4:0.8 0.10:0.1:0.3 0.05:0.2:0.4", SCENE=street,
-#        TAU=0.05,0.1, CONFIG=config/atsdf_street.yaml, EVAL_ARGS (e.g. "--cutoff 0.3")
+#        TAU=0.05,0.1, CONFIG=config/atsdf_street.yaml, EVAL_ARGS (e.g. "--cutoff 0.3"),
+#        MODES="adaptive paper fixed vdbfusion" (the rows to run),
+#        SET (extra --set options of every vdbmap run, e.g.
+#        "integrate.atsdf.grazing_band_both_sides=true"; the adaptive row is named after them)
 # SUV: SCENE=suv FRAMES=40 RUNS=0.025:0.1:0.3 TAU=0.02,0.05 CONFIG=config/suv_adaptive.yaml
 #      EVAL_ARGS="--cutoff 0.3 --sample-spacing 0.01" scripts/experiments/truncation.sh
 set -euo pipefail
@@ -20,6 +23,11 @@ RUNS=${RUNS:-"0.10:0.4:0.8 0.10:0.1:0.3 0.05:0.2:0.4"}
 TAU=${TAU:-0.05,0.1}
 CONFIG=${CONFIG:-$ROOT/config/atsdf_street.yaml}
 EVAL_ARGS=${EVAL_ARGS:-}
+MODES=${MODES:-"adaptive paper fixed vdbfusion"}
+SET=${SET:-}
+extra=()
+for kv in $SET; do extra+=(--set "$kv"); done
+wants() { [[ " $MODES " == *" $1 "* ]]; }
 SEQ=$OUT/sim/${SCENE}${FRAMES}
 if [ ! -f "$SEQ/gt/mesh.ply" ]; then
     nice -n 10 "$BIN/vdbmap-sim" "$SCENE" -o "$SEQ" --frames "$FRAMES" --seed 1 --no-images --quiet
@@ -59,19 +67,24 @@ for spec in $RUNS; do
     mid=$(python3 -c "print(round(($lo + $hi) / 2, 4))")
     tag="${SCENE}_v${voxel}_${lo}-${hi}"
     for mode in adaptive paper; do
-        dir=$OUT/exp/${tag}_$mode
+        wants $mode || continue
+        dir=$OUT/exp/${tag}_$mode${SET:+_$(echo "$SET" | tr ' =/' '_-_')}
         nice -n 10 "$BIN/vdbmap" run "$CONFIG" -o "$dir" --set dataset.path="$SEQ" \
             --set integrate.atsdf.voxel_size_m="$voxel" --set integrate.atsdf.truncation_mode=$mode \
-            --set integrate.atsdf.truncation_min_m="$lo" --set integrate.atsdf.truncation_max_m="$hi" --quiet
-        evaluate "$mode [$lo, $hi] @ $voxel" "$dir"
+            --set integrate.atsdf.truncation_min_m="$lo" --set integrate.atsdf.truncation_max_m="$hi" \
+            "${extra[@]}" --quiet
+        evaluate "$mode [$lo, $hi] @ $voxel${SET:+ ($SET)}" "$dir"
     done
     for eps in $lo $mid $hi; do
-        dir=$OUT/exp/${tag}_fixed$eps
+        wants fixed || break
+        dir=$OUT/exp/${tag}_fixed$eps${SET:+_$(echo "$SET" | tr ' =/' '_-_')}
         nice -n 10 "$BIN/vdbmap" run "$CONFIG" -o "$dir" --set dataset.path="$SEQ" \
             --set integrate.atsdf.voxel_size_m="$voxel" --set integrate.atsdf.truncation_mode=fixed \
-            --set integrate.atsdf.truncation_min_m="$eps" --set integrate.atsdf.truncation_max_m="$eps" --quiet
-        evaluate "fixed $eps @ $voxel" "$dir"
+            --set integrate.atsdf.truncation_min_m="$eps" --set integrate.atsdf.truncation_max_m="$eps" \
+            "${extra[@]}" --quiet
+        evaluate "fixed $eps @ $voxel${SET:+ ($SET)}" "$dir"
     done
+    wants vdbfusion || continue
     dir=$OUT/exp/${tag}_vdbfusion
     mkdir -p "$dir"
     nice -n 10 "$BIN/bench_integration" --pipeline "$ROOT/bench/run_integration.yaml" \

@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <utility>
 
 #include "support/MapTestUtil.h"
 #include "support/ReferenceIntegrator.h"
@@ -23,9 +24,10 @@ struct Comparison {
     double max_sdf_diff = 0.0, max_rel_weight_diff = 0.0;
 };
 
-AtsdfConfig configFor(TruncationMode mode) {
+AtsdfConfig configFor(TruncationMode mode, bool both_sides = false) {
     AtsdfConfig c;
     c.truncation.mode = mode;
+    c.truncation.grazing_band_both_sides = both_sides;
     c.truncation.min_m = 0.2;
     c.truncation.max_m = 0.4;
     c.max_weight = 100.0;  // quantum 0.0015 (the stage default 1000 packs with 0.015)
@@ -34,7 +36,7 @@ AtsdfConfig configFor(TruncationMode mode) {
 
 /// Runs both integrators on the same scans (`reference_mode` lets a test feed the reference a
 /// different mode) and compares every observed voxel.
-Comparison compare(TruncationMode mode, TruncationMode reference_mode) {
+Comparison compare(TruncationMode mode, TruncationMode reference_mode, bool both_sides = false) {
     SimScene scene;
     scene.add(SimPlane{Vec3d(0, 0, -1.73), Vec3d::UnitZ()});
     scene.add(SimSphere{Vec3d(4.2, 1.1, -0.5), 1.0});
@@ -43,8 +45,8 @@ Comparison compare(TruncationMode mode, TruncationMode reference_mode) {
     lidar.azimuth_steps = 512;
     lidar.noise_sigma_m = 0.01;
     VoxelMap map(kVoxel, 0.4f, 100.0f);
-    AtsdfIntegrator integrator(map, configFor(mode));
-    ReferenceIntegrator reference(kVoxel, configFor(reference_mode));
+    AtsdfIntegrator integrator(map, configFor(mode, both_sides));
+    ReferenceIntegrator reference(kVoxel, configFor(reference_mode, both_sides));
     const std::vector<Isometry3d> poses = {poseAt(Vec3d(0, 0, 0)), poseAt(Vec3d(0.8, 0.1, 0)),
                                            poseAt(Vec3d(1.6, 0.2, 0))};
     for (std::size_t i = 0; i < poses.size(); ++i) {
@@ -81,9 +83,14 @@ Comparison compare(TruncationMode mode, TruncationMode reference_mode) {
 
 TEST_CASE("The parallel integrator matches the serial reference voxel by voxel",
           "[tsdf][reference]") {
-    for (TruncationMode mode : {TruncationMode::Adaptive, TruncationMode::Paper, TruncationMode::Fixed}) {
-        const Comparison c = compare(mode, mode);
-        INFO("mode " << truncationModeName(mode) << ": parallel " << c.parallel << " reference "
+    const std::pair<TruncationMode, bool> cases[] = {{TruncationMode::Adaptive, false},
+                                                     {TruncationMode::Adaptive, true},
+                                                     {TruncationMode::Paper, false},
+                                                     {TruncationMode::Fixed, false}};
+    for (const auto& [mode, both_sides] : cases) {
+        const Comparison c = compare(mode, mode, both_sides);
+        INFO("mode " << truncationModeName(mode) << (both_sides ? " (band on both sides)" : "")
+                     << ": parallel " << c.parallel << " reference "
                      << c.reference << " common " << c.common << " compared " << c.compared
                      << " differing " << c.differing << " max |dsdf| " << c.max_sdf_diff
                      << " max rel |dW| " << c.max_rel_weight_diff);

@@ -103,6 +103,17 @@ TEST_CASE("Adaptive band: at least b across a grazing surface, widened only in f
     t.max_along_ray_m = 1.0;
     CHECK(rayBandFor(t, 0.5, 0.1).front_m == Approx(1.0));
     CHECK(maxHalfLength(t) == Approx(1.0));
+    // Both sides: behind the point too the band reaches b across the surface (b / c along the
+    // ray, up to L_max); frontal points keep b behind, as without.
+    t.max_along_ray_m = 0.0;
+    t.grazing_band_both_sides = true;
+    CHECK(rayBandFor(t, 0.5, 1.0).back_m == Approx(0.2));
+    CHECK(rayBandFor(t, 0.5, 0.5).back_m == Approx(0.4));
+    r = rayBandFor(t, 0.5, 0.1);
+    CHECK(r.back_m == Approx(0.8));
+    CHECK(r.front_m == Approx(0.8));
+    CHECK(maxHalfLength(t) == Approx(0.8));
+    t.grazing_band_both_sides = false;
     // Paper and fixed: [-eps, eps] along the ray, whatever the incidence.
     for (TruncationMode m : {TruncationMode::Paper, TruncationMode::Fixed}) {
         t.mode = m;

@@ -461,6 +461,7 @@ void AtsdfIntegrator::ScanPass::planSegments() {
     // L_max >= eps_max >= eps (validateTruncation).
     const float l_max = static_cast<float>(maxAlongRay(trunc_));
     const float band = static_cast<float>(trunc_.grazing_band_m);
+    const bool both_sides = trunc_.grazing_band_both_sides;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s_.local.size(), 16),
                       [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t b = r.begin(); b < r.end(); ++b) {
@@ -479,7 +480,7 @@ void AtsdfIntegrator::ScanPass::planSegments() {
                     const float c = std::abs(normal.dot(dir));
                     const float grazing = c * l_max > band ? band / c : l_max;  // b / |n . d|
                     front = std::min(std::max(eps, grazing), l_max);
-                    back = std::min(std::max(eps, band), grazing);
+                    back = both_sides ? grazing : std::min(std::max(eps, band), grazing);
                 }
                 const detail::RaySegment seg = detail::RaySegment::of(p, dir, front, back, inv_vs_f_);
                 s_.dir[k] = dir;

@@ -74,7 +74,8 @@ RayBand rayBandFor(const TruncationParams& p, double eps_m, double cos_incidence
     const double c = std::clamp(cos_incidence, 0.0, 1.0);
     const double b = p.grazing_band_m;
     const double grazing = c * l_max > b ? b / c : l_max;
-    return {std::min(std::max(eps_m, grazing), l_max), std::min(std::max(eps_m, b), grazing)};
+    const double back = p.grazing_band_both_sides ? grazing : std::min(std::max(eps_m, b), grazing);
+    return {std::min(std::max(eps_m, grazing), l_max), back};
 }
 
 double maxHalfLength(const TruncationParams& p) {

@@ -42,6 +42,10 @@ struct TruncationParams {
     /// Adaptive mode: b, the least half-width of the band across a surface (along its normal),
     /// in metres (the stage gives it in voxels: grazing_band_voxels * voxel).
     double grazing_band_m = 0.2;
+    /// Adaptive mode: the band reaches b across the surface behind the point as well
+    /// (back = min(b / |n . d|, L_max) along the ray) instead of max(eps, b) along the ray: the
+    /// gap between two rings of a grazing surface is then closed from both of them.
+    bool grazing_band_both_sides = false;
 };
 
 /// n_ref of an 8^3 block of edge 8 * voxel_size_m from a reference density of measurement
@@ -76,7 +80,8 @@ struct RayBand {
 /// used for the point, d: the unit ray direction; 1 when the point has no normal):
 ///   Adaptive:      front = min(max(eps, b / c), L_max), back = min(max(eps, b), b / c)
 ///                  (b = grazing_band_m: the band spans at least b across the surface; it is
-///                  widened only in front, in the free space the ray crossed)
+///                  widened only in front, in the free space the ray crossed); with
+///                  grazing_band_both_sides, back = min(b / c, L_max)
 ///   Paper, Fixed:  front = back = eps                (the band along the ray)
 RayBand rayBandFor(const TruncationParams& params, double eps_m, double cos_incidence);
 
