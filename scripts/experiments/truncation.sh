@@ -28,6 +28,7 @@ SET=${SET:-}
 extra=()
 for kv in $SET; do extra+=(--set "$kv"); done
 wants() { [[ " $MODES " == *" $1 "* ]]; }
+suffix=${SET:+_$(echo "$SET" | tr ' =/' '___')}  # of the run folders made with SET
 SEQ=$OUT/sim/${SCENE}${FRAMES}
 if [ ! -f "$SEQ/gt/mesh.ply" ]; then
     nice -n 10 "$BIN/vdbmap-sim" "$SCENE" -o "$SEQ" --frames "$FRAMES" --seed 1 --no-images --quiet
@@ -68,7 +69,7 @@ for spec in $RUNS; do
     tag="${SCENE}_v${voxel}_${lo}-${hi}"
     for mode in adaptive paper; do
         wants $mode || continue
-        dir=$OUT/exp/${tag}_$mode${SET:+_$(echo "$SET" | tr ' =/' '_-_')}
+        dir=$OUT/exp/${tag}_$mode$suffix
         nice -n 10 "$BIN/vdbmap" run "$CONFIG" -o "$dir" --set dataset.path="$SEQ" \
             --set integrate.atsdf.voxel_size_m="$voxel" --set integrate.atsdf.truncation_mode=$mode \
             --set integrate.atsdf.truncation_min_m="$lo" --set integrate.atsdf.truncation_max_m="$hi" \
@@ -77,7 +78,7 @@ for spec in $RUNS; do
     done
     for eps in $lo $mid $hi; do
         wants fixed || break
-        dir=$OUT/exp/${tag}_fixed$eps${SET:+_$(echo "$SET" | tr ' =/' '_-_')}
+        dir=$OUT/exp/${tag}_fixed$eps$suffix
         nice -n 10 "$BIN/vdbmap" run "$CONFIG" -o "$dir" --set dataset.path="$SEQ" \
             --set integrate.atsdf.voxel_size_m="$voxel" --set integrate.atsdf.truncation_mode=fixed \
             --set integrate.atsdf.truncation_min_m="$eps" --set integrate.atsdf.truncation_max_m="$eps" \

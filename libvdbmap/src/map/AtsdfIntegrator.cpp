@@ -477,10 +477,10 @@ void AtsdfIntegrator::ScanPass::planSegments() {
                 const Vec3f dir = ray * (1.0f / std::sqrt(ray.squaredNorm()));  // one division
                 float front = eps, back = eps;
                 if (has_normal) {  // rayBandFor (Truncation.h), in float
-                    const float c = std::abs(normal.dot(dir));
-                    const float grazing = c * l_max > band ? band / c : l_max;  // b / |n . d|
-                    front = std::min(std::max(eps, grazing), l_max);
-                    back = both_sides ? grazing : std::min(std::max(eps, band), grazing);
+                    const AdaptiveBand<float> ab =
+                        adaptiveBand(eps, std::abs(normal.dot(dir)), band, l_max, both_sides);
+                    front = ab.front_m;
+                    back = ab.back_m;
                 }
                 const detail::RaySegment seg = detail::RaySegment::of(p, dir, front, back, inv_vs_f_);
                 s_.dir[k] = dir;

@@ -153,8 +153,8 @@ inline std::size_t integrateRay(const RaySegment& seg, const Vec3f& p_W, const V
     const int max_steps = static_cast<int>(length_idx * 1.7320508f + 4.0f);
     for (int s = 0; s < max_steps; ++s) {
         const float d = sdf > eps_m ? eps_m : (sdf < -eps_m ? -eps_m : sdf);
-        // distanceFalloff (MeasurementWeight.h) with the reciprocal estimate for its division.
-        const float falloff = std::max(falloff_floor, fastReciprocal(1.0f + t * t * inv_falloff2));
+        const float falloff = distanceFalloff(t, inv_falloff2, falloff_floor,
+                                              [](float x) { return fastReciprocal(x); });
         const float w = w_inc * falloff * behindSurfaceFactor(d, eps_m, voxel_m, inv_dropoff);
         if (in_leaf && w > 0.0f) {
             sink.update(ax.ijk, ay.ijk, az.ijk, offset, d, w);

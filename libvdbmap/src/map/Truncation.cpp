@@ -72,10 +72,9 @@ RayBand rayBandFor(const TruncationParams& p, double eps_m, double cos_incidence
     // but no deeper than b across the surface.
     const double l_max = std::max(maxAlongRay(p), eps_m);
     const double c = std::clamp(cos_incidence, 0.0, 1.0);
-    const double b = p.grazing_band_m;
-    const double grazing = c * l_max > b ? b / c : l_max;
-    const double back = p.grazing_band_both_sides ? grazing : std::min(std::max(eps_m, b), grazing);
-    return {std::min(std::max(eps_m, grazing), l_max), back};
+    const AdaptiveBand<double> band =
+        adaptiveBand(eps_m, c, p.grazing_band_m, l_max, p.grazing_band_both_sides);
+    return {band.front_m, band.back_m};
 }
 
 double maxHalfLength(const TruncationParams& p) {

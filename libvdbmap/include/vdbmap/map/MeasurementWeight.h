@@ -54,10 +54,17 @@ inline Scalar blockNoiseRatio(Scalar q, Scalar flatness) {
 /// Trust in a sample at a voxel t metres along the ray from its point (adaptive and fixed
 /// modes): the plane through the point is extrapolated over |t|, so the sample counts
 /// 1 / (1 + (t / l)^2), at least `floor` (a lone distant sample still completes the surface
-/// where nothing nearer was measured). inv_l2 = 1 / l^2; 0 = no falloff (1).
+/// where nothing nearer was measured). inv_l2 = 1 / l^2; 0 = no falloff (1). `reciprocal(x)`
+/// computes 1 / x (the voxel kernel passes an estimate, map/FastReciprocal.h).
+template <typename Scalar, typename Reciprocal>
+inline Scalar distanceFalloff(Scalar t_m, Scalar inv_l2, Scalar floor, Reciprocal reciprocal) {
+    return std::max(floor, reciprocal(Scalar(1) + t_m * t_m * inv_l2));
+}
+
+/// distanceFalloff with the exact division.
 template <typename Scalar>
 inline Scalar distanceFalloff(Scalar t_m, Scalar inv_l2, Scalar floor) {
-    return std::max(floor, Scalar(1) / (Scalar(1) + t_m * t_m * inv_l2));
+    return distanceFalloff(t_m, inv_l2, floor, [](Scalar x) { return Scalar(1) / x; });
 }
 
 /// Drop-off behind the surface (voxblox style): 1 for sdf >= -voxel_size_m, then linear down

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 
+#include <algorithm>
 #include <string>
 
 #include "vdbmap/map/BlockStats.h"
@@ -84,6 +85,20 @@ struct RayBand {
 ///                  grazing_band_both_sides, back = min(b / c, L_max)
 ///   Paper, Fixed:  front = back = eps                (the band along the ray)
 RayBand rayBandFor(const TruncationParams& params, double eps_m, double cos_incidence);
+
+/// The adaptive branch of rayBandFor for eps <= l_max and c = |n . d| in [0, 1], in any
+/// precision (the integrator's float, rayBandFor's double): {front, back} along the ray.
+template <typename Scalar>
+struct AdaptiveBand {
+    Scalar front_m, back_m;
+};
+template <typename Scalar>
+inline AdaptiveBand<Scalar> adaptiveBand(Scalar eps, Scalar c, Scalar b, Scalar l_max,
+                                         bool both_sides) {
+    const Scalar grazing = c * l_max > b ? b / c : l_max;  // b / c, at most L_max
+    return {std::min(std::max(eps, grazing), l_max),
+            both_sides ? grazing : std::min(std::max(eps, b), grazing)};
+}
 
 /// The longest half-length any point can get (the update reach of the integrator).
 double maxHalfLength(const TruncationParams& params);
