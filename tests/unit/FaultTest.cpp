@@ -8,6 +8,8 @@
 //    file, with no partial file;
 //  - two runs on one output folder: the second is refused, the first is untouched.
 #include <catch2/catch.hpp>
+#include <signal.h>
+
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -209,8 +211,13 @@ TEST_CASE("fault: a second run on a busy output folder is refused", "[cli][harde
     while (const auto line = first.readLine()) {
         if (line->find("[1/3]") != std::string::npos) break;  // holds the lock now
     }
+    // Paused while the second run tries, so that a loaded machine cannot let the short first
+    // run finish (and release the lock) before the second one starts.
+    REQUIRE(::kill(first.pid(), SIGSTOP) == 0);
     test::Child second(test::kVdbmapExe, runArgs(out));
-    CHECK(second.exitCode() == 1);
+    const int second_exit = second.exitCode();
+    REQUIRE(::kill(first.pid(), SIGCONT) == 0);
+    CHECK(second_exit == 1);
     CHECK_THAT(second.log(), Contains("in use by another vdbmap run") &&
                                  Contains("pid " + std::to_string(first.pid())) &&
                                  Contains(".vdbmap.lock"));
