@@ -12,6 +12,7 @@
 #include "vdbmap/map/AtsdfIntegrator.h"
 #include "vdbmap/map/BlockStats.h"
 #include "vdbmap/map/MeasurementWeight.h"
+#include "vdbmap/map/RingSpacing.h"
 #include "vdbmap/map/Truncation.h"
 
 namespace vdbmap::test {
@@ -37,6 +38,13 @@ public:
         // 1. The valid points of each block, in scan order (the world points in float, as the
         //    integrator transforms them).
         const Eigen::Isometry3f T = T_W_L.cast<float>();
+        // The scan's rings, for the band behind grazing points (grazing_band_to_next_ring).
+        use_rings_ = c_.truncation.mode == TruncationMode::Adaptive && c_.truncation.grazing_band_to_next_ring;
+        if (use_rings_) {
+            rings_ = RingSpacing::estimate(points_L);
+            use_rings_ = rings_.valid();
+            up_W_ = T_W_L.linear() * Vec3d::UnitZ();
+        }
         std::map<openvdb::Coord, std::vector<Vec3d>> scan;
         for (const Vec3f& p_L : points_L) {
             const Vec3f p = T * p_L;
@@ -107,7 +115,8 @@ private:
                                    : noiseWeight(std::abs(n.dot(dir)), blockNoiseRatio(c_.noise_ratio, flatness));
         const double inv_l2 = !paper && c_.falloff_m > 0.0 ? 1.0 / (c_.falloff_m * c_.falloff_m) : 0.0;
         // Without a normal (isolated degenerate block) the band is [-eps, eps] along the ray.
-        const RayBand band = has_normal ? rayBandFor(c_.truncation, eps, std::abs(n.dot(dir)))
+        const double gap = has_normal && use_rings_ ? rings_.surfaceGap(dir, n, up_W_, (p - sensor).norm()) : 0.0;
+        const RayBand band = has_normal ? rayBandFor(c_.truncation, eps, std::abs(n.dot(dir)), gap)
                                         : RayBand{eps, eps};
         detail::traverseSegment(p - band.front_m * dir, dir, band.front_m + band.back_m, 1.0 / vs_,
                                 [&](const openvdb::Coord& v) {
@@ -127,6 +136,9 @@ private:
     AtsdfConfig c_;
     std::map<openvdb::Coord, Block> blocks_;
     std::map<openvdb::Coord, Voxel> voxels_;
+    bool use_rings_ = false;
+    RingSpacing rings_;
+    Vec3d up_W_ = Vec3d::UnitZ();
 };
 
 }  // namespace vdbmap::test

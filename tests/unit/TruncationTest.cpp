@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <catch2/catch.hpp>
 
+#include <limits>
 #include <string>
 
 #include "vdbmap/Error.h"
@@ -114,12 +115,21 @@ TEST_CASE("Adaptive band: at least b across a grazing surface, widened only in f
     CHECK(r.front_m == Approx(0.8));
     CHECK(maxHalfLength(t) == Approx(0.8));
     t.grazing_band_both_sides = false;
+    // A gap g to the next ring: behind, the band reaches g, but no further than b across the
+    // surface (b / c) or L_max; a gap shorter than the band changes nothing.
+    CHECK(rayBandFor(t, 0.3, 0.1, 0.6).back_m == Approx(0.6));
+    CHECK(rayBandFor(t, 0.3, 0.1, 5.0).back_m == Approx(0.8));
+    CHECK(rayBandFor(t, 0.3, 0.5, 5.0).back_m == Approx(0.4));
+    CHECK(rayBandFor(t, 0.3, 0.1, 0.1).back_m == Approx(0.3));
+    CHECK(rayBandFor(t, 0.3, 0.1, std::numeric_limits<double>::infinity()).back_m == Approx(0.8));
+    CHECK(rayBandFor(t, 0.3, 0.1, 0.6).front_m == Approx(0.8));  // the front does not change
     // Paper and fixed: [-eps, eps] along the ray, whatever the incidence.
     for (TruncationMode m : {TruncationMode::Paper, TruncationMode::Fixed}) {
         t.mode = m;
         r = rayBandFor(t, 0.5, 0.1);
         CHECK(r.front_m == Approx(0.5));
         CHECK(r.back_m == Approx(0.5));
+        CHECK(rayBandFor(t, 0.5, 0.1, 0.7).back_m == Approx(0.5));  // no ring gap either
         CHECK(maxHalfLength(t) == Approx(0.8));
     }
     CHECK(parseTruncationMode("paper") == TruncationMode::Paper);

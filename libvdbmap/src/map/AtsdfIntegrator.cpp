@@ -22,6 +22,7 @@
 #include "vdbmap/map/BlockStats.h"
 #include "vdbmap/map/CompactTsdf.h"
 #include "vdbmap/map/MeasurementWeight.h"
+#include "vdbmap/map/RingSpacing.h"
 #include "vdbmap/map/VoxelMap.h"
 
 namespace vdbmap {
@@ -92,6 +93,9 @@ struct AtsdfIntegrator::Scratch {
     std::vector<std::uint32_t> cell_begin;
     std::vector<std::size_t> updates_per_cell;
     std::vector<TsdfLeaf*> created;           ///< leaves phase 3a added to the working tree
+    bool use_rings = false;  ///< grazing_band_to_next_ring, and the scan came in its sensor frame
+    RingSpacing rings;       ///< the scan's rings (use_rings)
+    Vec3f up_W = Vec3f::UnitZ();  ///< the sensor's z axis in the world frame (use_rings)
 };
 
 IntegrationStats& IntegrationStats::operator+=(const IntegrationStats& o) {
@@ -166,7 +170,14 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
                           for (std::size_t i = r.begin(); i < r.end(); ++i)
                               points_W[i] = T * points_L[i];
                       });
-    return integrateScan(points_W, T_W_L.translation());
+    const TruncationParams& tp = config_.truncation;
+    scratch_->use_rings = tp.mode == TruncationMode::Adaptive && tp.grazing_band_to_next_ring;
+    if (scratch_->use_rings) {
+        scratch_->rings = RingSpacing::estimate(points_L);
+        scratch_->use_rings = scratch_->rings.valid();
+        scratch_->up_W = T.linear() * Vec3f::UnitZ();
+    }
+    return integrateInWorld(points_W, T_W_L.translation());
 }
 
 /// One scan's integration, phase by phase (AtsdfIntegrator.h lists the phases). Holds the
@@ -462,6 +473,7 @@ void AtsdfIntegrator::ScanPass::planSegments() {
     const float l_max = static_cast<float>(maxAlongRay(trunc_));
     const float band = static_cast<float>(trunc_.grazing_band_m);
     const bool both_sides = trunc_.grazing_band_both_sides;
+    const RingSpacing* rings = s_.use_rings ? &s_.rings : nullptr;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s_.local.size(), 16),
                       [&](const tbb::blocked_range<std::size_t>& r) {
         for (std::size_t b = r.begin(); b < r.end(); ++b) {
@@ -474,11 +486,13 @@ void AtsdfIntegrator::ScanPass::planSegments() {
             for (std::uint32_t k = lb.begin; k < lb.end; ++k) {
                 const Vec3f& p = points_W_[s_.order[k]];
                 const Vec3f ray = p - origin_f_;
-                const Vec3f dir = ray * (1.0f / std::sqrt(ray.squaredNorm()));  // one division
+                const float range = std::sqrt(ray.squaredNorm());
+                const Vec3f dir = ray * (1.0f / range);  // one division
                 float front = eps, back = eps;
                 if (has_normal) {  // rayBandFor (Truncation.h), in float
+                    const float gap = rings ? rings->surfaceGap(dir, normal, s_.up_W, range) : 0.0f;
                     const AdaptiveBand<float> ab =
-                        adaptiveBand(eps, std::abs(normal.dot(dir)), band, l_max, both_sides);
+                        adaptiveBand(eps, std::abs(normal.dot(dir)), band, l_max, both_sides, gap);
                     front = ab.front_m;
                     back = ab.back_m;
                 }
@@ -647,6 +661,12 @@ void AtsdfIntegrator::ScanPass::retire(IntegrationStats& st) {
 
 IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points_W,
                                                 const Vec3d& origin_W) {
+    scratch_->use_rings = false;  // no sensor frame: the rings are unknown
+    return integrateInWorld(points_W, origin_W);
+}
+
+IntegrationStats AtsdfIntegrator::integrateInWorld(const std::vector<Vec3f>& points_W,
+                                                   const Vec3d& origin_W) {
     IntegrationStats st;
     st.scans = 1;
     st.points_in = points_W.size();

@@ -64,7 +64,7 @@ double maxAlongRay(const TruncationParams& p) {
     return p.max_along_ray_m > 0.0 ? p.max_along_ray_m : p.max_m;
 }
 
-RayBand rayBandFor(const TruncationParams& p, double eps_m, double cos_incidence) {
+RayBand rayBandFor(const TruncationParams& p, double eps_m, double cos_incidence, double gap_m) {
     if (p.mode != TruncationMode::Adaptive) return {eps_m, eps_m};
     // A voxel at t along the ray lies t |n . d| from the block's plane: the ray band [-eps, eps]
     // spans only eps |n . d| across a grazing surface. The adaptive band spans at least b across
@@ -73,7 +73,7 @@ RayBand rayBandFor(const TruncationParams& p, double eps_m, double cos_incidence
     const double l_max = std::max(maxAlongRay(p), eps_m);
     const double c = std::clamp(cos_incidence, 0.0, 1.0);
     const AdaptiveBand<double> band =
-        adaptiveBand(eps_m, c, p.grazing_band_m, l_max, p.grazing_band_both_sides);
+        adaptiveBand(eps_m, c, p.grazing_band_m, l_max, p.grazing_band_both_sides, gap_m);
     return {band.front_m, band.back_m};
 }
 

@@ -73,6 +73,10 @@ public:
                  "Adaptive mode: behind the point too, the band reaches b across the surface "
                  "(min(b / |n.d|, L_max) along the ray) instead of min(max(eps, b), b / |n.d|)",
                  both_sides_, false);
+        spec.add("grazing_band_to_next_ring",
+                 "Adaptive mode: behind a grazing point the band reaches the next ring of the scan "
+                 "(its gap g = r e dtheta / |n.d|, rings estimated per scan), up to min(b / |n.d|, L_max)",
+                 next_ring_, false);
         spec.add("flatness_k", "Weight k of the flatness in eps = k P_flat n_ref / n eps_max", k_, 1.0);
         spec.add("reference_density_pts_m2",
                  "Surface density giving n_ref = density * (8 voxel)^2, the points per block at which a "
@@ -141,6 +145,7 @@ public:
         config_.truncation.max_along_ray_m = max_along_ray_m_;
         config_.truncation.grazing_band_m = grazing_band_vox_ * voxel_size_m_;
         config_.truncation.grazing_band_both_sides = both_sides_;
+        config_.truncation.grazing_band_to_next_ring = next_ring_;
         config_.truncation.flatness_k = k_;
         if (!(n_ref_ >= 0.0) || !std::isfinite(n_ref_)) {
             std::ostringstream os;
@@ -245,6 +250,7 @@ private:
     double min_vox_ = 4.0, max_vox_ = 8.0;
     double min_m_ = 0.0, max_m_ = 0.0, max_along_ray_m_ = 0.0, grazing_band_vox_ = 2.0;
     bool both_sides_ = false;
+    bool next_ring_ = false;
     double k_ = 1.0, density_ref_ = 156.25, n_ref_ = 0.0;
     int min_points_ = 5;
     double weight_floor_ = 0.1, max_weight_ = 1000.0;

@@ -132,6 +132,8 @@ private:
     IntegrationStats totals_;
     struct Scratch;
     class ScanPass;  ///< one scan's phases (AtsdfIntegrator.cpp)
+    /// Both integrateScan overloads: the scan's rings (Scratch) are set or cleared first.
+    IntegrationStats integrateInWorld(const std::vector<Vec3f>& points_W, const Vec3d& origin_W);
     /// Per-scan buffers, reused across scans (no allocation or page faults in steady state).
     std::unique_ptr<Scratch> scratch_;
 };

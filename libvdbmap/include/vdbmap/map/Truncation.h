@@ -47,6 +47,10 @@ struct TruncationParams {
     /// (back = min(b / |n . d|, L_max) along the ray) instead of max(eps, b) along the ray: the
     /// gap between two rings of a grazing surface is then closed from both of them.
     bool grazing_band_both_sides = false;
+    /// Adaptive mode: behind a grazing point the band reaches the next ring of the scan as well
+    /// (back >= min(g, b / |n . d|, L_max), g the surface gap of RingSpacing::surfaceGap): the
+    /// integrator estimates the rings from each scan in its sensor frame.
+    bool grazing_band_to_next_ring = false;
 };
 
 /// n_ref of an 8^3 block of edge 8 * voxel_size_m from a reference density of measurement
@@ -82,22 +86,26 @@ struct RayBand {
 ///   Adaptive:      front = min(max(eps, b / c), L_max), back = min(max(eps, b), b / c)
 ///                  (b = grazing_band_m: the band spans at least b across the surface; it is
 ///                  widened only in front, in the free space the ray crossed); with
-///                  grazing_band_both_sides, back = min(b / c, L_max)
+///                  grazing_band_both_sides, back = min(b / c, L_max); with a surface gap
+///                  gap_m > 0 to the next ring behind the point (grazing_band_to_next_ring),
+///                  back = max(back, min(gap, b / c, L_max))
 ///   Paper, Fixed:  front = back = eps                (the band along the ray)
-RayBand rayBandFor(const TruncationParams& params, double eps_m, double cos_incidence);
+RayBand rayBandFor(const TruncationParams& params, double eps_m, double cos_incidence,
+                   double gap_m = 0.0);
 
 /// The adaptive branch of rayBandFor for eps <= l_max and c = |n . d| in [0, 1], in any
-/// precision (the integrator's float, rayBandFor's double): {front, back} along the ray.
+/// precision (the integrator's float, rayBandFor's double): {front, back} along the ray; gap:
+/// the surface gap to the next ring behind the point (0: none known).
 template <typename Scalar>
 struct AdaptiveBand {
     Scalar front_m, back_m;
 };
 template <typename Scalar>
 inline AdaptiveBand<Scalar> adaptiveBand(Scalar eps, Scalar c, Scalar b, Scalar l_max,
-                                         bool both_sides) {
+                                         bool both_sides, Scalar gap = Scalar(0)) {
     const Scalar grazing = c * l_max > b ? b / c : l_max;  // b / c, at most L_max
-    return {std::min(std::max(eps, grazing), l_max),
-            both_sides ? grazing : std::min(std::max(eps, b), grazing)};
+    const Scalar back = both_sides ? grazing : std::min(std::max(eps, b), grazing);
+    return {std::min(std::max(eps, grazing), l_max), std::max(back, std::min(gap, grazing))};
 }
 
 /// The longest half-length any point can get (the update reach of the integrator).
