@@ -103,6 +103,21 @@ private:
         return sum.norm() > 0.0 ? Vec3d(sum.normalized()) : Vec3d::Zero();
     }
 
+    /// The point q on the surface lies in a block with a valid plane whose normal is within
+    /// ~25 deg of n and which passes within b of q (the integrator's landsOnPlane).
+    bool landsOnPlane(const Vec3d& q, const Vec3d& n) const {
+        const float inv = static_cast<float>(1.0 / vs_);
+        const Vec3f qf = q.cast<float>();
+        const openvdb::Coord v(static_cast<int>(std::floor(qf.x() * inv + 0.5f)),
+                               static_cast<int>(std::floor(qf.y() * inv + 0.5f)),
+                               static_cast<int>(std::floor(qf.z() * inv + 0.5f)));
+        const auto it = blocks_.find(openvdb::Coord(v.x() >> 3, v.y() >> 3, v.z() >> 3));
+        if (it == blocks_.end() || !it->second.plane.valid) return false;
+        const Vec3d& m = it->second.plane.normal;
+        if (std::abs(m.dot(n)) < 0.9) return false;
+        return std::abs(m.dot(q - it->second.stats.mean)) <= c_.truncation.grazing_band_m;
+    }
+
     void updateAlongRay(const Vec3d& p, const Vec3d& sensor, const Vec3d& block_normal,
                         double flatness, double eps) {
         const Vec3d dir = (p - sensor).normalized();
@@ -115,9 +130,13 @@ private:
                                    : noiseWeight(std::abs(n.dot(dir)), blockNoiseRatio(c_.noise_ratio, flatness));
         const double inv_l2 = !paper && c_.falloff_m > 0.0 ? 1.0 / (c_.falloff_m * c_.falloff_m) : 0.0;
         // Without a normal (isolated degenerate block) the band is [-eps, eps] along the ray.
-        const double gap = has_normal && use_rings_ ? rings_.surfaceGap(dir, n, up_W_, (p - sensor).norm()) : 0.0;
-        const RayBand band = has_normal ? rayBandFor(c_.truncation, eps, std::abs(n.dot(dir)), gap)
-                                        : RayBand{eps, eps};
+        RayBand band = has_normal ? rayBandFor(c_.truncation, eps, std::abs(n.dot(dir))) : RayBand{eps, eps};
+        if (has_normal && use_rings_) {  // to the next ring, if it lands on this surface
+            const double gap = rings_.surfaceGap(dir, n, up_W_, (p - sensor).norm());
+            const RayBand to_ring = rayBandFor(c_.truncation, eps, std::abs(n.dot(dir)), gap);
+            if (to_ring.back_m > band.back_m && landsOnPlane(p + to_ring.back_m * (dir - n.dot(dir) * n), n))
+                band = to_ring;
+        }
         detail::traverseSegment(p - band.front_m * dir, dir, band.front_m + band.back_m, 1.0 / vs_,
                                 [&](const openvdb::Coord& v) {
             const Vec3d centre(v.x() * vs_, v.y() * vs_, v.z() * vs_);

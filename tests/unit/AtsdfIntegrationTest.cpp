@@ -171,3 +171,58 @@ TEST_CASE("Space carving pushes previously observed voxels towards free space",
     CHECK(kept < 0.0f);    // just behind the old wall: still "inside"
     CHECK(carved > 0.0f);  // carving made it free space
 }
+
+TEST_CASE("The band to the next ring stops where that ring lands off the surface",
+          "[tsdf][integrate]") {
+    // A flat roof (a van's, 0.73 m above the ground) seen at grazing incidence from 5 to 8 m.
+    // Behind a point near its far edge the scan's next ring lands on the ground, not on the
+    // roof, so the band behind must not carry the roof's plane past the edge (issue 16: the
+    // extrapolated roofs cost F at [0.4, 0.8]). The landing check looks up the block the next
+    // ring lands in, so the edge is put at a block boundary (x = 7.95 is where the blocks of
+    // 8 voxels of 0.1 m start; the roof ends at 7.9).
+    SimScene scene;
+    scene.add(SimPlane{Vec3d(0, 0, -1.73), Vec3d::UnitZ()});
+    scene.add(SimBox{Vec3d(5.0, -1.0, -1.73), Vec3d(7.9, 1.0, -1.0)});
+    SimLidarConfig lidar;
+    lidar.azimuth_steps = 2048;
+    std::vector<Isometry3d> poses;
+    for (int i = 0; i < 4; ++i) poses.push_back(poseAt(Vec3d(-0.25 * i, 0.0, 0.0)));
+    // Voxels observed at the roof's height from 0.2 m beyond its edge (past the short band's
+    // reach), and on the roof itself, per setting of the band behind.
+    struct Counts {
+        std::size_t beyond_edge = 0, roof = 0;
+    };
+    auto run = [&](bool next_ring, bool both_sides) {
+        VoxelMap map(0.1, 0.3f);
+        AtsdfConfig c;
+        c.truncation.min_m = 0.1;
+        c.truncation.max_m = 0.3;
+        c.truncation.max_along_ray_m = 1.0;  // lets the band behind reach g ~ 0.6 m here
+        c.truncation.grazing_band_to_next_ring = next_ring;
+        c.truncation.grazing_band_both_sides = both_sides;
+        AtsdfIntegrator integrator(map, c);
+        integrateScans(integrator, scene, lidar, poses);
+        Counts n;
+        const TsdfCodec& codec = map.codec();
+        map.forEachVoxel([&](const openvdb::Coord& v, std::uint32_t packed) {
+            if (!(codec.weight(packed) > 0.0f) || std::abs(v.y()) > 8 || v.z() < -12 || v.z() > -9) return;
+            if (v.x() >= 81 && v.x() <= 90) ++n.beyond_edge;
+            if (v.x() >= 55 && v.x() <= 75) ++n.roof;
+        });
+        return n;
+    };
+    const Counts short_band = run(false, false), next_ring = run(true, false), both = run(false, true);
+    INFO("beyond the edge: short " << short_band.beyond_edge << ", next ring " << next_ring.beyond_edge
+                                   << ", both sides " << both.beyond_edge << "; on the roof: short "
+                                   << short_band.roof << ", next ring " << next_ring.roof
+                                   << ", both sides " << both.roof);
+    // The band that always reaches on (both sides, to L_max) does fill the space past the edge:
+    // the region is within reach of the roof's rays.
+    REQUIRE(both.beyond_edge > 100);
+    // The band to the next ring reaches further behind the roof's own points...
+    CHECK(next_ring.roof > short_band.roof);
+    // ...but not past its edge. Measured: short 0, next ring 0, both sides 136 beyond the edge
+    // (689 / 912 / 1102 on the roof); the reference integrator without the landing check puts
+    // 62 voxels there.
+    CHECK(next_ring.beyond_edge <= short_band.beyond_edge + both.beyond_edge / 20);
+}

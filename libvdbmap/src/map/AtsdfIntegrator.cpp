@@ -227,6 +227,8 @@ private:
     void scatterOrder(std::size_t n_chunks);
     void markLeaves(std::uint64_t* bits, const Coord& bc, const detail::RaySegment& seg,
                     const Vec3f& dir) const;
+    bool landsOnPlane(const Vec3f& p, const Vec3f& dir, const Vec3f& normal, float t,
+                      float band) const;
     std::size_t integrateCell(std::size_t cell_index, detail::BlockLeafTable& table,
                               detail::TsdfLeafCache::Accessor& acc) const;
 
@@ -458,6 +460,23 @@ void AtsdfIntegrator::ScanPass::markLeaves(std::uint64_t* bits, const Coord& bc,
             }
 }
 
+bool AtsdfIntegrator::ScanPass::landsOnPlane(const Vec3f& p, const Vec3f& dir, const Vec3f& normal,
+                                             float t, float band) const {
+    // The band behind p may reach the next ring only where that ring lands on the same surface:
+    // the point t along the surface beyond p must lie in a block with a valid plane of about
+    // the same normal (within ~25 deg) that passes within `band` of it. Past the edge of a
+    // surface (a car's roof) the next ring hits something else, and the plane is not carried on.
+    const Vec3f q = p + t * (dir - normal.dot(dir) * normal);
+    const Coord v(static_cast<int>(std::floor(q.x() * inv_vs_f_ + 0.5f)),
+                  static_cast<int>(std::floor(q.y() * inv_vs_f_ + 0.5f)),
+                  static_cast<int>(std::floor(q.z() * inv_vs_f_ + 0.5f)));
+    const std::int32_t slot = blocks_.find(BlockStatsGrid::blockOf(v));
+    if (slot < 0) return false;
+    const BlockEntry& e = blocks_.entry(slot);
+    if (!e.plane_valid || std::abs(e.normal_W.dot(normal)) < 0.9f) return false;
+    return std::abs(e.normal_W.dot(q - e.stats.mean.cast<float>())) <= band;
+}
+
 void AtsdfIntegrator::ScanPass::planSegments() {
     // Parallel over blocks: each point's ray direction, update segment (kept for phase 3) and
     // the leaves it crosses. The segment along the ray is rayBandFor (Truncation.h): [-eps, eps]
@@ -490,9 +509,15 @@ void AtsdfIntegrator::ScanPass::planSegments() {
                 const Vec3f dir = ray * (1.0f / range);  // one division
                 float front = eps, back = eps;
                 if (has_normal) {  // rayBandFor (Truncation.h), in float
-                    const float gap = rings ? rings->surfaceGap(dir, normal, s_.up_W, range) : 0.0f;
-                    const AdaptiveBand<float> ab =
-                        adaptiveBand(eps, std::abs(normal.dot(dir)), band, l_max, both_sides, gap);
+                    const float c = std::abs(normal.dot(dir));
+                    AdaptiveBand<float> ab = adaptiveBand(eps, c, band, l_max, both_sides);
+                    if (rings) {  // reach the next ring, if it lands on this surface
+                        const float gap = rings->surfaceGap(dir, normal, s_.up_W, range);
+                        const AdaptiveBand<float> to_ring =
+                            adaptiveBand(eps, c, band, l_max, both_sides, gap);
+                        if (to_ring.back_m > ab.back_m && landsOnPlane(p, dir, normal, to_ring.back_m, band))
+                            ab = to_ring;
+                    }
                     front = ab.front_m;
                     back = ab.back_m;
                 }
