@@ -75,8 +75,10 @@ public:
                  both_sides_, false);
         spec.add("grazing_band_to_next_ring",
                  "Adaptive mode: behind a grazing point the band reaches the next ring of the scan "
-                 "(its gap g = r e dtheta / |n.d|, rings estimated per scan), up to min(b / |n.d|, L_max)",
-                 next_ring_, false);
+                 "(g = r sin(e dtheta) / sin(alpha - e dtheta), rings found in each scan), up to "
+                 "min(b / |n.d|, L_max), where that ring lands on the same plane; off: "
+                 "min(max(eps, b), b / |n.d|)",
+                 next_ring_, true);
         spec.add("flatness_k", "Weight k of the flatness in eps = k P_flat n_ref / n eps_max", k_, 1.0);
         spec.add("reference_density_pts_m2",
                  "Surface density giving n_ref = density * (8 voxel)^2, the points per block at which a "
@@ -250,7 +252,7 @@ private:
     double min_vox_ = 4.0, max_vox_ = 8.0;
     double min_m_ = 0.0, max_m_ = 0.0, max_along_ray_m_ = 0.0, grazing_band_vox_ = 2.0;
     bool both_sides_ = false;
-    bool next_ring_ = false;
+    bool next_ring_ = true;
     double k_ = 1.0, density_ref_ = 156.25, n_ref_ = 0.0;
     int min_points_ = 5;
     double weight_floor_ = 0.1, max_weight_ = 1000.0;

@@ -48,8 +48,10 @@ struct TruncationParams {
     /// gap between two rings of a grazing surface is then closed from both of them.
     bool grazing_band_both_sides = false;
     /// Adaptive mode: behind a grazing point the band reaches the next ring of the scan as well
-    /// (back >= min(g, b / |n . d|, L_max), g the surface gap of RingSpacing::surfaceGap): the
-    /// integrator estimates the rings from each scan in its sensor frame.
+    /// (back >= min(g, b / |n . d|, L_max), g the surface gap of RingSpacing::surfaceGap), where
+    /// that ring lands on the same surface (the block there has a plane of about the same
+    /// normal, within b): the integrator estimates the rings from each scan in its sensor frame.
+    /// Off here (the plain adaptive band); the integrate.atsdf stage turns it on by default.
     bool grazing_band_to_next_ring = false;
 };
 
