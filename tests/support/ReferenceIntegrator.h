@@ -103,8 +103,9 @@ private:
         return sum.norm() > 0.0 ? Vec3d(sum.normalized()) : Vec3d::Zero();
     }
 
-    /// The point q on the surface lies in a block with a valid plane whose normal is within
-    /// ~25 deg of n and which passes within b of q (the integrator's landsOnPlane).
+    /// The point q on the surface lies in a block with points whose plane passes within b of
+    /// q: its own (with a normal within ~25 deg of n) or, without one, n's through the mean of
+    /// its points (the integrator's landsOnPlane).
     bool landsOnPlane(const Vec3d& q, const Vec3d& n) const {
         const float inv = static_cast<float>(1.0 / vs_);
         const Vec3f qf = q.cast<float>();
@@ -112,9 +113,10 @@ private:
                                static_cast<int>(std::floor(qf.y() * inv + 0.5f)),
                                static_cast<int>(std::floor(qf.z() * inv + 0.5f)));
         const auto it = blocks_.find(openvdb::Coord(v.x() >> 3, v.y() >> 3, v.z() >> 3));
-        if (it == blocks_.end() || !it->second.plane.valid) return false;
-        const Vec3d& m = it->second.plane.normal;
-        if (std::abs(m.dot(n)) < 0.9) return false;
+        if (it == blocks_.end() || it->second.stats.n <= 0.0) return false;
+        const bool valid = it->second.plane.valid;
+        const Vec3d& m = valid ? it->second.plane.normal : n;
+        if (valid && std::abs(m.dot(n)) < 0.9) return false;
         return std::abs(m.dot(q - it->second.stats.mean)) <= c_.truncation.grazing_band_m;
     }
 

@@ -463,9 +463,12 @@ void AtsdfIntegrator::ScanPass::markLeaves(std::uint64_t* bits, const Coord& bc,
 bool AtsdfIntegrator::ScanPass::landsOnPlane(const Vec3f& p, const Vec3f& dir, const Vec3f& normal,
                                              float t, float band) const {
     // The band behind p may reach the next ring only where that ring lands on the same surface:
-    // the point t along the surface beyond p must lie in a block with a valid plane of about
-    // the same normal (within ~25 deg) that passes within `band` of it. Past the edge of a
-    // surface (a car's roof) the next ring hits something else, and the plane is not carried on.
+    // the point q, t along the surface beyond p, must lie in a block with points whose plane
+    // passes within `band` of q: the block's own plane if it has one (and then of about the
+    // same normal, within ~25 deg), else p's plane through the mean of its points (a block one
+    // ring crosses has no plane of its own, but its points lie on the surface). Past the edge
+    // of a surface (a car's roof) the next ring hits something else, and the plane is not
+    // carried on.
     const Vec3f q = p + t * (dir - normal.dot(dir) * normal);
     const Coord v(static_cast<int>(std::floor(q.x() * inv_vs_f_ + 0.5f)),
                   static_cast<int>(std::floor(q.y() * inv_vs_f_ + 0.5f)),
@@ -473,8 +476,9 @@ bool AtsdfIntegrator::ScanPass::landsOnPlane(const Vec3f& p, const Vec3f& dir, c
     const std::int32_t slot = blocks_.find(BlockStatsGrid::blockOf(v));
     if (slot < 0) return false;
     const BlockEntry& e = blocks_.entry(slot);
-    if (!e.plane_valid || std::abs(e.normal_W.dot(normal)) < 0.9f) return false;
-    return std::abs(e.normal_W.dot(q - e.stats.mean.cast<float>())) <= band;
+    if (e.stats.n <= 0.0 || (e.plane_valid && std::abs(e.normal_W.dot(normal)) < 0.9f)) return false;
+    const Vec3f& n_q = e.plane_valid ? e.normal_W : normal;
+    return std::abs(n_q.dot(q - e.stats.mean.cast<float>())) <= band;
 }
 
 void AtsdfIntegrator::ScanPass::planSegments() {
