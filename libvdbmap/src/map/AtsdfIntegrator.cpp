@@ -227,8 +227,9 @@ private:
     void scatterOrder(std::size_t n_chunks);
     void markLeaves(std::uint64_t* bits, const Coord& bc, const detail::RaySegment& seg,
                     const Vec3f& dir) const;
-    bool landsOnPlane(const Vec3f& p, const Vec3f& dir, const Vec3f& normal, float t,
-                      float band) const;
+    using BlockIndexAccessor = openvdb::tree::ValueAccessor<const openvdb::Int32Tree, false>;
+    bool landsOnPlane(BlockIndexAccessor& index, const Vec3f& p, const Vec3f& dir,
+                      const Vec3f& normal, float t, float band) const;
     std::size_t integrateCell(std::size_t cell_index, detail::BlockLeafTable& table,
                               detail::TsdfLeafCache::Accessor& acc) const;
 
@@ -460,8 +461,9 @@ void AtsdfIntegrator::ScanPass::markLeaves(std::uint64_t* bits, const Coord& bc,
             }
 }
 
-bool AtsdfIntegrator::ScanPass::landsOnPlane(const Vec3f& p, const Vec3f& dir, const Vec3f& normal,
-                                             float t, float band) const {
+bool AtsdfIntegrator::ScanPass::landsOnPlane(BlockIndexAccessor& index, const Vec3f& p,
+                                             const Vec3f& dir, const Vec3f& normal, float t,
+                                             float band) const {
     // The band behind p may reach the next ring only where that ring lands on the same surface:
     // the point q, t along the surface beyond p, must lie in a block with points whose plane
     // passes within `band` of q: the block's own plane if it has one (and then of about the
@@ -473,7 +475,7 @@ bool AtsdfIntegrator::ScanPass::landsOnPlane(const Vec3f& p, const Vec3f& dir, c
     const Coord v(static_cast<int>(std::floor(q.x() * inv_vs_f_ + 0.5f)),
                   static_cast<int>(std::floor(q.y() * inv_vs_f_ + 0.5f)),
                   static_cast<int>(std::floor(q.z() * inv_vs_f_ + 0.5f)));
-    const std::int32_t slot = blocks_.find(BlockStatsGrid::blockOf(v));
+    const std::int32_t slot = index.getValue(BlockStatsGrid::blockOf(v));
     if (slot < 0) return false;
     const BlockEntry& e = blocks_.entry(slot);
     if (e.stats.n <= 0.0 || (e.plane_valid && std::abs(e.normal_W.dot(normal)) < 0.9f)) return false;
@@ -499,6 +501,7 @@ void AtsdfIntegrator::ScanPass::planSegments() {
     const RingSpacing* rings = s_.use_rings ? &s_.rings : nullptr;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s_.local.size(), 16),
                       [&](const tbb::blocked_range<std::size_t>& r) {
+        BlockIndexAccessor index(blocks_.indexTree());
         for (std::size_t b = r.begin(); b < r.end(); ++b) {
             const LocalBlock& lb = s_.local[b];
             const float eps = blocks_.entry(lb.slot).truncation_m;
@@ -515,11 +518,16 @@ void AtsdfIntegrator::ScanPass::planSegments() {
                 if (has_normal) {  // rayBandFor (Truncation.h), in float
                     const float c = std::abs(normal.dot(dir));
                     AdaptiveBand<float> ab = adaptiveBand(eps, c, band, l_max, both_sides);
-                    if (rings) {  // reach the next ring, if it lands on this surface
+                    // Reach the next ring, if it lands on this surface. The gap can lengthen
+                    // the band behind only up to min(b / c, L_max): skip it where that is no
+                    // longer than the band already is (frontal points).
+                    const float grazing = c * l_max > band ? band / c : l_max;
+                    if (rings && grazing > ab.back_m) {
                         const float gap = rings->surfaceGap(dir, normal, s_.up_W, range);
                         const AdaptiveBand<float> to_ring =
                             adaptiveBand(eps, c, band, l_max, both_sides, gap);
-                        if (to_ring.back_m > ab.back_m && landsOnPlane(p, dir, normal, to_ring.back_m, band))
+                        if (to_ring.back_m > ab.back_m &&
+                            landsOnPlane(index, p, dir, normal, to_ring.back_m, band))
                             ab = to_ring;
                     }
                     front = ab.front_m;
