@@ -465,12 +465,12 @@ bool AtsdfIntegrator::ScanPass::landsOnPlane(BlockIndexAccessor& index, const Ve
                                              const Vec3f& dir, const Vec3f& normal, float t,
                                              float band) const {
     // The band behind p may reach the next ring only where that ring lands on the same surface:
-    // the point q, t along the surface beyond p, must lie in a block with points whose plane
-    // passes within `band` of q: the block's own plane if it has one (and then of about the
-    // same normal, within ~25 deg), else p's plane through the mean of its points (a block one
-    // ring crosses has no plane of its own, but its points lie on the surface). Past the edge
-    // of a surface (a car's roof) the next ring hits something else, and the plane is not
-    // carried on.
+    // q, the band's end (t along the ray behind p) projected onto p's plane, must lie in a
+    // block with points whose plane passes within `band` of q: the block's own plane if it has
+    // one (and then of about the same normal, within ~25 deg), else p's plane through the mean
+    // of its points (a block one ring crosses has no plane of its own, but its points lie on
+    // the surface). Past the edge of a surface (a car's roof) the next ring hits something
+    // else, and the plane is not carried on.
     const Vec3f q = p + t * (dir - normal.dot(dir) * normal);
     const Coord v(static_cast<int>(std::floor(q.x() * inv_vs_f_ + 0.5f)),
                   static_cast<int>(std::floor(q.y() * inv_vs_f_ + 0.5f)),
