@@ -472,10 +472,7 @@ bool AtsdfIntegrator::ScanPass::landsOnPlane(BlockIndexAccessor& index, const Ve
     // the surface). Past the edge of a surface (a car's roof) the next ring hits something
     // else, and the plane is not carried on.
     const Vec3f q = p + t * (dir - normal.dot(dir) * normal);
-    const Coord v(static_cast<int>(std::floor(q.x() * inv_vs_f_ + 0.5f)),
-                  static_cast<int>(std::floor(q.y() * inv_vs_f_ + 0.5f)),
-                  static_cast<int>(std::floor(q.z() * inv_vs_f_ + 0.5f)));
-    const std::int32_t slot = index.getValue(BlockStatsGrid::blockOf(v));
+    const std::int32_t slot = index.getValue(BlockStatsGrid::blockOf(detail::voxelOf(q, inv_vs_f_)));
     if (slot < 0) return false;
     const BlockEntry& e = blocks_.entry(slot);
     if (e.stats.n <= 0.0 || (e.plane_valid && std::abs(e.normal_W.dot(normal)) < 0.9f)) return false;
@@ -518,17 +515,15 @@ void AtsdfIntegrator::ScanPass::planSegments() {
                 if (has_normal) {  // rayBandFor (Truncation.h), in float
                     const float c = std::abs(normal.dot(dir));
                     AdaptiveBand<float> ab = adaptiveBand(eps, c, band, l_max, both_sides);
-                    // Reach the next ring, if it lands on this surface. The gap can lengthen
-                    // the band behind only up to min(b / c, L_max): skip it where that is no
-                    // longer than the band already is (frontal points).
-                    const float grazing = c * l_max > band ? band / c : l_max;
+                    // Reach the next ring, if it lands on this surface: back = max(back,
+                    // min(g, b / c, L_max)) (adaptiveBand with the gap). Where min(b / c, L_max)
+                    // is no longer than the band already is (frontal points) g cannot matter.
+                    const float grazing = grazingReach(c, band, l_max);
                     if (rings && grazing > ab.back_m) {
-                        const float gap = rings->surfaceGap(dir, normal, s_.up_W, range);
-                        const AdaptiveBand<float> to_ring =
-                            adaptiveBand(eps, c, band, l_max, both_sides, gap);
-                        if (to_ring.back_m > ab.back_m &&
-                            landsOnPlane(index, p, dir, normal, to_ring.back_m, band))
-                            ab = to_ring;
+                        const float to_ring =
+                            std::min(rings->surfaceGap(dir, normal, s_.up_W, range), grazing);
+                        if (to_ring > ab.back_m && landsOnPlane(index, p, dir, normal, to_ring, band))
+                            ab.back_m = to_ring;
                     }
                     front = ab.front_m;
                     back = ab.back_m;

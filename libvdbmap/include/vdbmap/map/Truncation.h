@@ -102,10 +102,16 @@ template <typename Scalar>
 struct AdaptiveBand {
     Scalar front_m, back_m;
 };
+/// min(b / c, L_max): how far along the ray a band b across the surface reaches (division-free
+/// when the cap applies, so c = 0 is safe).
+template <typename Scalar>
+inline Scalar grazingReach(Scalar c, Scalar b, Scalar l_max) {
+    return c * l_max > b ? b / c : l_max;
+}
 template <typename Scalar>
 inline AdaptiveBand<Scalar> adaptiveBand(Scalar eps, Scalar c, Scalar b, Scalar l_max,
                                          bool both_sides, Scalar gap = Scalar(0)) {
-    const Scalar grazing = c * l_max > b ? b / c : l_max;  // b / c, at most L_max
+    const Scalar grazing = grazingReach(c, b, l_max);
     const Scalar back = both_sides ? grazing : std::min(std::max(eps, b), grazing);
     return {std::min(std::max(eps, grazing), l_max), std::max(back, std::min(gap, grazing))};
 }
