@@ -70,13 +70,51 @@ public:
             const Block& b = blocks_[key];
             double flatness = 0.0;
             const Vec3d normal = normalOf(key, sensor, flatness);
-            for (const Vec3d& p : pts) updateAlongRay(p, sensor, normal, flatness, b.eps);
+            // Each point, or (merge_divisions s) the mean of the points of each cell (voxel / s)
+            // weighted by their count, cells in the order their first point comes.
+            for (const auto& [p, count] : c_.merge_divisions > 0 ? perCell(pts) : perPoint(pts))
+                updateAlongRay(p, sensor, normal, flatness, b.eps, count);
         }
     }
 
     const std::map<openvdb::Coord, Voxel>& voxels() const { return voxels_; }
 
 private:
+    using Rays = std::vector<std::pair<Vec3d, double>>;  ///< point, points it stands for
+
+    static Rays perPoint(const std::vector<Vec3d>& pts) {
+        Rays rays;
+        for (const Vec3d& p : pts) rays.emplace_back(p, 1.0);
+        return rays;
+    }
+
+    Rays perCell(const std::vector<Vec3d>& pts) const {
+        std::map<openvdb::Coord, std::size_t> ray_of_cell;
+        std::vector<Vec3d> sum;  // of the offsets from the voxel's first point
+        Rays rays;
+        for (const Vec3d& p : pts) {
+            const auto [it, first] = ray_of_cell.emplace(cellOf(p.cast<float>()), rays.size());
+            if (first) {
+                rays.emplace_back(p, 1.0);
+                sum.push_back(Vec3d::Zero());
+            } else {
+                sum[it->second] += p - rays[it->second].first;
+                rays[it->second].second += 1.0;
+            }
+        }
+        for (std::size_t i = 0; i < rays.size(); ++i) rays[i].first += sum[i] / rays[i].second;
+        return rays;
+    }
+
+    /// The cell of a point: floor((p / voxel + 1/2) s), in float as the integrator.
+    openvdb::Coord cellOf(const Vec3f& p) const {
+        const float s = static_cast<float>(c_.merge_divisions);
+        const float inv = static_cast<float>(1.0 / vs_);
+        return openvdb::Coord(static_cast<int>(std::floor((p.x() * inv + 0.5f) * s)),
+                              static_cast<int>(std::floor((p.y() * inv + 0.5f) * s)),
+                              static_cast<int>(std::floor((p.z() * inv + 0.5f) * s)));
+    }
+
     /// The block's own normal; a degenerate block's: the n-weighted mean of its 26 neighbours'
     /// valid normals, each turned towards the sensor; none: zero (the ray direction is used).
     /// `flatness`: P_flat of the block's plane, or the n-weighted mean of the neighbours'.
@@ -120,16 +158,17 @@ private:
         return std::abs(m.dot(q - it->second.stats.mean)) <= c_.truncation.grazing_band_m;
     }
 
+    /// `count`: the points the ray stands for (its weight's factor).
     void updateAlongRay(const Vec3d& p, const Vec3d& sensor, const Vec3d& block_normal,
-                        double flatness, double eps) {
+                        double flatness, double eps, double count) {
         const Vec3d dir = (p - sensor).normalized();
         const bool has_normal = block_normal.squaredNorm() > 0.0;
         const Vec3d n = has_normal ? block_normal : Vec3d(-dir);
         // Paper mode: the paper's incidence weight; adaptive and fixed: the noise weight of the
         // sample's distance along the normal, times the falloff with the distance along the ray.
         const bool paper = c_.truncation.mode == TruncationMode::Paper;
-        const double w_inc = paper ? (has_normal ? incidenceWeight(n, sensor, p, c_.weight_floor) : 1.0)
-                                   : noiseWeight(std::abs(n.dot(dir)), blockNoiseRatio(c_.noise_ratio, flatness));
+        const double w_inc = count * (paper ? (has_normal ? incidenceWeight(n, sensor, p, c_.weight_floor) : 1.0)
+                                            : noiseWeight(std::abs(n.dot(dir)), blockNoiseRatio(c_.noise_ratio, flatness)));
         const double inv_l2 = !paper && c_.falloff_m > 0.0 ? 1.0 / (c_.falloff_m * c_.falloff_m) : 0.0;
         // Without a normal (isolated degenerate block) the band is [-eps, eps] along the ray.
         RayBand band = has_normal ? rayBandFor(c_.truncation, eps, std::abs(n.dot(dir))) : RayBand{eps, eps};

@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <string>
 #include <utility>
 
 #include "support/MapTestUtil.h"
@@ -21,6 +22,7 @@ constexpr double kVoxel = 0.1;
 
 struct Comparison {
     std::size_t parallel = 0, reference = 0, common = 0, compared = 0, differing = 0;
+    std::size_t sdf_off_by_quarter_voxel = 0;  ///< compared voxels whose sdf differs by > voxel / 4
     double max_sdf_diff = 0.0, max_rel_weight_diff = 0.0;
 };
 
@@ -35,8 +37,9 @@ const char* behindName(Behind behind) {
     }
 }
 
-AtsdfConfig configFor(TruncationMode mode, Behind behind = Behind::Short) {
+AtsdfConfig configFor(TruncationMode mode, Behind behind = Behind::Short, int merge_divisions = 0) {
     AtsdfConfig c;
+    c.merge_divisions = merge_divisions;
     c.truncation.mode = mode;
     c.truncation.grazing_band_both_sides = behind == Behind::BothSides;
     c.truncation.grazing_band_to_next_ring = behind == Behind::NextRing;
@@ -46,9 +49,10 @@ AtsdfConfig configFor(TruncationMode mode, Behind behind = Behind::Short) {
     return c;
 }
 
-/// Runs both integrators on the same scans (`reference_mode` lets a test feed the reference a
-/// different mode) and compares every observed voxel.
-Comparison compare(TruncationMode mode, TruncationMode reference_mode, Behind behind = Behind::Short) {
+/// Runs both integrators on the same scans (`reference_mode` and `reference_merge` let a test
+/// feed the reference a different mode or merging) and compares every observed voxel.
+Comparison compare(TruncationMode mode, TruncationMode reference_mode, Behind behind = Behind::Short,
+                   int merge = 0, int reference_merge = 0) {
     SimScene scene;
     scene.add(SimPlane{Vec3d(0, 0, -1.73), Vec3d::UnitZ()});
     scene.add(SimSphere{Vec3d(4.2, 1.1, -0.5), 1.0});
@@ -57,8 +61,8 @@ Comparison compare(TruncationMode mode, TruncationMode reference_mode, Behind be
     lidar.azimuth_steps = 512;
     lidar.noise_sigma_m = 0.01;
     VoxelMap map(kVoxel, 0.4f, 100.0f);
-    AtsdfIntegrator integrator(map, configFor(mode, behind));
-    ReferenceIntegrator reference(kVoxel, configFor(reference_mode, behind));
+    AtsdfIntegrator integrator(map, configFor(mode, behind, merge));
+    ReferenceIntegrator reference(kVoxel, configFor(reference_mode, behind, reference_merge));
     const std::vector<Isometry3d> poses = {poseAt(Vec3d(0, 0, 0)), poseAt(Vec3d(0.8, 0.1, 0)),
                                            poseAt(Vec3d(1.6, 0.2, 0))};
     for (std::size_t i = 0; i < poses.size(); ++i) {
@@ -84,6 +88,7 @@ Comparison compare(TruncationMode mode, TruncationMode reference_mode, Behind be
         const double dsdf = std::abs(sdf - it->second.sdf);
         const double dw = std::abs(weight - it->second.weight) / it->second.weight;
         if (dsdf > 2e-3 || dw > 1e-2) ++c.differing;
+        if (dsdf > 0.25 * kVoxel) ++c.sdf_off_by_quarter_voxel;
         c.max_sdf_diff = std::max(c.max_sdf_diff, std::abs(sdf - it->second.sdf));
         c.max_rel_weight_diff =
             std::max(c.max_rel_weight_diff, std::abs(weight - it->second.weight) / it->second.weight);
@@ -95,14 +100,24 @@ Comparison compare(TruncationMode mode, TruncationMode reference_mode, Behind be
 
 TEST_CASE("The parallel integrator matches the serial reference voxel by voxel",
           "[tsdf][reference]") {
-    const std::pair<TruncationMode, Behind> cases[] = {{TruncationMode::Adaptive, Behind::Short},
-                                                       {TruncationMode::Adaptive, Behind::BothSides},
-                                                       {TruncationMode::Adaptive, Behind::NextRing},
-                                                       {TruncationMode::Paper, Behind::Short},
-                                                       {TruncationMode::Fixed, Behind::Short}};
-    for (const auto& [mode, behind] : cases) {
-        const Comparison c = compare(mode, mode, behind);
+    struct Case {
+        TruncationMode mode;
+        Behind behind;
+        int merge;  ///< merge_divisions
+    };
+    const Case cases[] = {{TruncationMode::Adaptive, Behind::Short, 0},
+                          {TruncationMode::Adaptive, Behind::BothSides, 0},
+                          {TruncationMode::Adaptive, Behind::NextRing, 0},
+                          {TruncationMode::Adaptive, Behind::NextRing, 1},
+                          {TruncationMode::Adaptive, Behind::NextRing, 2},
+                          {TruncationMode::Paper, Behind::Short, 0},
+                          {TruncationMode::Fixed, Behind::Short, 0},
+                          {TruncationMode::Fixed, Behind::Short, 1}};
+    for (const auto& [mode, behind, merge] : cases) {
+        const Comparison c = compare(mode, mode, behind, merge, merge);
         INFO("mode " << truncationModeName(mode) << behindName(behind)
+                     << (merge > 0 ? " (points merged per cell of voxel / " : "")
+                     << (merge > 0 ? std::to_string(merge) + ")" : "")
                      << ": parallel " << c.parallel << " reference "
                      << c.reference << " common " << c.common << " compared " << c.compared
                      << " differing " << c.differing << " max |dsdf| " << c.max_sdf_diff
@@ -147,4 +162,23 @@ TEST_CASE("The band to the next ring reaches behind grazing points, within the b
                           << ", both sides " << both.reference);
     CHECK(next_ring.reference > short_band.reference);
     CHECK(next_ring.reference <= both.reference);
+}
+
+TEST_CASE("Merging the points of a voxel into one ray changes the map little, and is not a no-op",
+          "[tsdf][reference]") {
+    // The integrator with merge_points_per_voxel against the reference without it: where the
+    // rays of a voxel's points cross the same voxels with about the same weights the merged ray
+    // gives the same value (sdf = n . (c - p) is linear in p), so most voxels agree; the ones at
+    // the ends of the bands and where weights differ along the rays do not, so the comparison
+    // must not pass as the exact one above does.
+    const Comparison merged = compare(TruncationMode::Adaptive, TruncationMode::Adaptive,
+                                      Behind::NextRing, 1, 0);
+    INFO("parallel " << merged.parallel << " reference " << merged.reference << " common "
+                     << merged.common << " compared " << merged.compared << " differing "
+                     << merged.differing << " sdf off by > voxel / 4 " << merged.sdf_off_by_quarter_voxel
+                     << " max |dsdf| " << merged.max_sdf_diff);
+    CHECK(static_cast<double>(merged.common) >= 0.97 * static_cast<double>(merged.reference));
+    CHECK(static_cast<double>(merged.sdf_off_by_quarter_voxel) < 0.002 * static_cast<double>(merged.compared));
+    CHECK(static_cast<double>(merged.differing) > 0.02 * static_cast<double>(merged.compared));
+    CHECK(static_cast<double>(merged.differing) < 0.5 * static_cast<double>(merged.compared));
 }

@@ -4,12 +4,14 @@
 #include <openvdb/openvdb.h>
 #include <openvdb/tree/ValueAccessor.h>
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <sstream>
 
 #include "map/CellColouring.h"
@@ -58,6 +60,9 @@ struct PointRun {
 struct LocalBlock {
     std::int32_t slot = -1;  ///< index into BlockStatsGrid
     std::uint32_t begin = 0, end = 0;
+    /// Its rays (phase 2c) are [begin, ray_end) of Scratch::ray_point: its points, or with
+    /// merge_points_per_voxel one per voxel they fall in.
+    std::uint32_t ray_end = 0;
     Vec3d normal = Vec3d::Zero();  ///< normal used for the block's points (zero: ray direction)
     /// P_flat of that normal's plane (borrowed: the neighbours' n-weighted mean): the share of
     /// noise_ratio its points get (noiseWeight's variance model needs the plane to hold).
@@ -66,6 +71,23 @@ struct LocalBlock {
 };
 
 using detail::LeafNeighbourhood;
+
+/// The cells of one 8^3 block seen so far while its points are merged into rays (phase 2c,
+/// AtsdfConfig::merge_divisions s: cells of a voxel / s side, (8 s)^3 per block): the ray of
+/// each cell (-1: none yet), the sum of its points' offsets from the ray's first point, and the
+/// cells used (to reset them).
+struct CellRays {
+    std::vector<std::int32_t> ray;
+    std::vector<Vec3f> delta_sum;
+    std::vector<std::uint32_t> used;
+    std::size_t n_used = 0;
+    explicit CellRays(int divisions) {
+        const std::size_t side = 8 * static_cast<std::size_t>(divisions);
+        ray.assign(side * side * side, -1);
+        delta_sum.resize(ray.size());
+        used.resize(ray.size());
+    }
+};
 
 /// estimatePlane's min_spread_m: a patch narrower than a quarter voxel, or than twice the range
 /// noise (one ring's points: a ribbon along the rays), is not trusted for a normal.
@@ -77,6 +99,8 @@ double minPlaneSpread(const AtsdfConfig& config, double voxel_m) {
 
 /// Per-scan buffers of integrateScan, kept between scans.
 struct AtsdfIntegrator::Scratch {
+    explicit Scratch(int merge_divisions)
+        : cell_rays([merge_divisions] { return CellRays(std::max(1, merge_divisions)); }) {}
     std::vector<Vec3f> points_W;             ///< the LiDAR-frame overload's transformed points
     std::vector<std::vector<PointRun>> runs;  ///< per chunk of points
     std::vector<std::array<std::size_t, 3>> chunk_drops;  ///< per chunk: non-finite, origin, range
@@ -85,8 +109,12 @@ struct AtsdfIntegrator::Scratch {
     std::vector<LocalBlock> local;
     std::vector<std::uint32_t> count;
     std::vector<std::uint32_t> order;
-    std::vector<Vec3f> dir;                   ///< unit ray direction per point (in `order`)
-    std::vector<detail::RaySegment> segment;  ///< update segment per point (in `order`)
+    /// Per thread: the cells of merge_divisions (phase 2c).
+    tbb::enumerable_thread_specific<CellRays> cell_rays;
+    std::vector<Vec3f> ray_point;             ///< per ray: its point (LocalBlock::ray_end)
+    std::vector<float> ray_count;             ///< per ray: the points it stands for
+    std::vector<Vec3f> dir;                   ///< unit direction per ray
+    std::vector<detail::RaySegment> segment;  ///< update segment per ray
     std::vector<std::uint64_t> leaf_bits;     ///< LeafNeighbourhood bits per local block
     std::vector<std::uint64_t> missing_bits;  ///< those of leaves not allocated yet
     std::vector<std::uint32_t> by_cell;
@@ -105,6 +133,7 @@ IntegrationStats& IntegrationStats::operator+=(const IntegrationStats& o) {
     dropped_non_finite += o.dropped_non_finite;
     dropped_at_origin += o.dropped_at_origin;
     dropped_range += o.dropped_range;
+    rays += o.rays;
     voxel_updates += o.voxel_updates;
     carving_updates += o.carving_updates;
     bin_s += o.bin_s;
@@ -137,10 +166,11 @@ void validateAtsdfConfig(const AtsdfConfig& c, const std::string& who) {
     if (!(c.min_range_m >= 0.0)) bad("min_range_m", c.min_range_m, ">= 0");
     if (!(c.max_range_m > c.min_range_m)) bad("max_range_m", c.max_range_m, "> min_range_m");
     if (c.working_set_scans < 1) bad("working_set_scans", c.working_set_scans, ">= 1");
+    if (c.merge_divisions < 0 || c.merge_divisions > 2) bad("merge_divisions", c.merge_divisions, "0, 1 or 2");
 }
 
 AtsdfIntegrator::AtsdfIntegrator(VoxelMap& map, const AtsdfConfig& config)
-    : map_(map), config_(config), scratch_(std::make_unique<Scratch>()) {
+    : map_(map), config_(config), scratch_(std::make_unique<Scratch>(config.merge_divisions)) {
     validateAtsdfConfig(config_, "integrate.atsdf");
     // The packed voxels hold |D| <= sdf range and W <= weight range (vdbmap/map/TsdfVoxel.h).
     const TsdfCodec& codec = map_.codec();
@@ -206,11 +236,11 @@ public:
     /// block in scan order. False if no point is left.
     bool bin(IntegrationStats& st);
     /// Phase 2: per block, merge this scan's batch statistics (Eq. 1), then plane (Eq. 2, 3)
-    /// and eps (Eq. 4).
+    /// and eps (Eq. 4); and the rays of its points (gatherRays).
     void mergeStatistics();
     /// Phase 2b: the normal used for each block's points (degenerate blocks borrow).
     void borrowNormals();
-    /// Phase 2c: each point's update segment and the leaves the segments cross.
+    /// Phase 2c: each ray's update segment and the leaves the segments cross.
     void planSegments();
     /// Phase 3a: allocate the missing leaves (or reload them from the compact store).
     void allocate(IntegrationStats& st);
@@ -225,6 +255,7 @@ private:
     void classifyChunks(std::size_t n_chunks);
     void assignLocalBlocks(std::size_t n_chunks, IntegrationStats& st);
     void scatterOrder(std::size_t n_chunks);
+    std::uint32_t gatherRays(const LocalBlock& lb, CellRays* cells) const;
     void markLeaves(std::uint64_t* bits, const Coord& bc, const detail::RaySegment& seg,
                     const Vec3f& dir) const;
     using BlockIndexAccessor = openvdb::tree::ValueAccessor<const openvdb::Int32Tree, false>;
@@ -379,14 +410,20 @@ bool AtsdfIntegrator::ScanPass::bin(IntegrationStats& st) {
 }
 
 void AtsdfIntegrator::ScanPass::mergeStatistics() {
-    // Parallel over blocks; each block touches only its own entry.
+    // Parallel over blocks; each block touches only its own entry. The block's rays are
+    // gathered here too, while its points are in the cache.
+    const std::size_t n = s_.order.size();
+    s_.ray_point.resize(n);
+    s_.ray_count.resize(n);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s_.local.size(), 16),
                       [&](const tbb::blocked_range<std::size_t>& r) {
+        CellRays* cells = config_.merge_divisions > 0 ? &s_.cell_rays.local() : nullptr;
         for (std::size_t b = r.begin(); b < r.end(); ++b) {
-            const LocalBlock& lb = s_.local[b];
+            LocalBlock& lb = s_.local[b];
             BlockEntry& entry = blocks_.entry(lb.slot);
             const BlockStats batch =
                 batchStatsIndexed(points_W_.data(), s_.order.data() + lb.begin, lb.end - lb.begin);
+            lb.ray_end = gatherRays(lb, cells);
             entry.stats = mergeStats(entry.stats, batch);  // paper Eq. (1)
             const PlaneEstimate plane =
                 estimatePlane(entry.stats, origin_W_, config_.min_points_for_pca, min_spread_m_);
@@ -480,6 +517,56 @@ bool AtsdfIntegrator::ScanPass::landsOnPlane(BlockIndexAccessor& index, const Ve
     return std::abs(n_q.dot(q - e.stats.mean.cast<float>())) <= band;
 }
 
+std::uint32_t AtsdfIntegrator::ScanPass::gatherRays(const LocalBlock& lb, CellRays* cells_or_null) const {
+    // The block's rays (phase 2) into [lb.begin, returned end) of ray_point and ray_count: each point, or
+    // (merge_divisions s > 0) the mean of the points of each cell (voxel / s) with their count,
+    // in the order the cells are first seen. The mean is the first point plus the mean offset
+    // from it, so that a cell of one point keeps it exactly.
+    Vec3f* ray_point = s_.ray_point.data();
+    float* ray_count = s_.ray_count.data();
+    if (cells_or_null == nullptr) {  // merge_divisions 0
+        for (std::uint32_t k = lb.begin; k < lb.end; ++k) {
+            ray_point[k] = points_W_[s_.order[k]];
+            ray_count[k] = 1.0f;
+        }
+        return lb.end;
+    }
+    CellRays& cells = *cells_or_null;
+    // Cell j = floor((p / voxel + 1/2) s) (voxel i covers [i - 1/2, i + 1/2)); with s = 1 or 2
+    // the product is exact, so the cells of a point lie in its voxel, and so in this block.
+    const int s = config_.merge_divisions;
+    const float s_f = static_cast<float>(s);
+    const int side = 8 * s;
+    const Coord bc = blocks_.blockCoord(lb.slot);
+    const Coord b0(bc.x() * side, bc.y() * side, bc.z() * side);
+    std::uint32_t end = lb.begin;
+    for (std::uint32_t k = lb.begin; k < lb.end; ++k) {
+        const Vec3f& p = points_W_[s_.order[k]];
+        const int cx = detail::floorToInt((p.x() * inv_vs_f_ + 0.5f) * s_f) - b0.x();
+        const int cy = detail::floorToInt((p.y() * inv_vs_f_ + 0.5f) * s_f) - b0.y();
+        const int cz = detail::floorToInt((p.z() * inv_vs_f_ + 0.5f) * s_f) - b0.z();
+        const std::size_t cell = static_cast<std::size_t>((cx * side + cy) * side + cz);
+        std::int32_t& r = cells.ray[cell];
+        if (r < 0) {
+            r = static_cast<std::int32_t>(end - lb.begin);
+            cells.delta_sum[static_cast<std::size_t>(r)].setZero();
+            cells.used[cells.n_used++] = static_cast<std::uint32_t>(cell);
+            ray_point[end] = p;
+            ray_count[end] = 1.0f;
+            ++end;
+        } else {
+            const std::uint32_t i = lb.begin + static_cast<std::uint32_t>(r);
+            cells.delta_sum[static_cast<std::size_t>(r)] += p - ray_point[i];
+            ray_count[i] += 1.0f;
+        }
+    }
+    for (std::uint32_t i = lb.begin; i < end; ++i)
+        if (ray_count[i] > 1.0f) ray_point[i] += cells.delta_sum[i - lb.begin] / ray_count[i];
+    for (std::size_t u = 0; u < cells.n_used; ++u) cells.ray[cells.used[u]] = -1;
+    cells.n_used = 0;
+    return end;
+}
+
 void AtsdfIntegrator::ScanPass::planSegments() {
     // Parallel over blocks: each point's ray direction, update segment (kept for phase 3) and
     // the leaves it crosses. The segment along the ray is rayBandFor (Truncation.h): [-eps, eps]
@@ -506,8 +593,8 @@ void AtsdfIntegrator::ScanPass::planSegments() {
             const Vec3f normal = lb.normal.cast<float>();
             const Coord bc = blocks_.blockCoord(lb.slot);
             std::uint64_t* bits = s_.leaf_bits.data() + b * hood_.words;
-            for (std::uint32_t k = lb.begin; k < lb.end; ++k) {
-                const Vec3f& p = points_W_[s_.order[k]];
+            for (std::uint32_t k = lb.begin; k < lb.ray_end; ++k) {
+                const Vec3f& p = s_.ray_point[k];
                 const Vec3f ray = p - origin_f_;
                 const float range = std::sqrt(ray.squaredNorm());
                 const Vec3f dir = ray * (1.0f / range);  // one division
@@ -595,8 +682,8 @@ std::size_t AtsdfIntegrator::ScanPass::integrateCell(std::size_t cell_index,
         const Vec3f block_normal = lb.normal.cast<float>();
         const float q_block = blockNoiseRatio(q, lb.flatness);  // per block, not per point
         table.load(blocks_.blockCoord(lb.slot), s_.leaf_bits.data() + b * hood_.words, acc, stamp_);
-        for (std::uint32_t k = lb.begin; k < lb.end; ++k) {
-            const Vec3f& p = points_W_[s_.order[k]];
+        for (std::uint32_t k = lb.begin; k < lb.ray_end; ++k) {
+            const Vec3f& p = s_.ray_point[k];
             const Vec3f& dir = s_.dir[k];
             const Vec3f normal = has_normal ? block_normal : Vec3f(-dir);
             if (paper_weight) {
@@ -604,6 +691,7 @@ std::size_t AtsdfIntegrator::ScanPass::integrateCell(std::size_t cell_index,
             } else {
                 weight.w_inc = noiseWeight(std::abs(normal.dot(dir)), q_block);
             }
+            weight.w_inc *= s_.ray_count[k];  // a merged ray counts as its points
             updates += detail::integrateRay(s_.segment[k], p, dir, normal, eps, vs_f, weight, table);
         }
     }
@@ -651,6 +739,7 @@ void AtsdfIntegrator::ScanPass::integrate(IntegrationStats& st) {
         colour_start = colour_end;
     }
     for (std::size_t u : s_.updates_per_cell) st.voxel_updates += u;
+    for (const LocalBlock& lb : local) st.rays += lb.ray_end - lb.begin;
 }
 
 void AtsdfIntegrator::ScanPass::carve(IntegrationStats& st) {

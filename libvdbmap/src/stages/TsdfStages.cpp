@@ -109,6 +109,15 @@ public:
                  "Adaptive, fixed: l in voxels; a sample counts 1 / (1 + (t / l)^2) (at least "
                  "weight_floor) at a voxel t along the ray from its point (0 = no falloff)",
                  falloff_vox_, 1.0, "voxels");
+        spec.add("merge_points",
+                 "auto, none, voxel or half_voxel: the points of a scan in one voxel (in one cell of "
+                 "half a voxel's side) update the map as one ray, their mean weighted by their count "
+                 "(the sdf n.(c - p) is linear in p; only the voxels their rays cross and the "
+                 "weights along them can differ); near the sensor most ray walks are saved. auto: "
+                 "half_voxel in the adaptive mode, whose band keeps b across every surface; none in "
+                 "the fixed and paper modes, whose band can be a voxel thin across a grazing surface "
+                 "(fewer rays would leave holes there)",
+                 merge_points_, std::string("auto"));
         spec.add("space_carving",
                  "Push already allocated voxels in front of the band towards free space (+eps_max)",
                  space_carving_, false);
@@ -173,6 +182,17 @@ public:
         config_.falloff_m = falloff_vox_ * voxel_size_m_;
         config_.max_weight = max_weight_;
         config_.space_carving = space_carving_;
+        if (merge_points_ == "auto") {
+            config_.merge_divisions = config_.truncation.mode == TruncationMode::Adaptive ? 2 : 0;
+        } else if (merge_points_ == "none") {
+            config_.merge_divisions = 0;
+        } else if (merge_points_ == "voxel") {
+            config_.merge_divisions = 1;
+        } else if (merge_points_ == "half_voxel") {
+            config_.merge_divisions = 2;
+        } else {
+            failConfig("option 'merge_points' must be auto, none, voxel or half_voxel, got '" + merge_points_ + "'");
+        }
         config_.working_set_scans = working_set_scans_;
         validateAtsdfConfig(config_, std::string(name()));
     }
@@ -220,6 +240,9 @@ public:
         r.stage(s, "dropped_range", read_total.dropped_range + t.dropped_range);
         r.stage(s, "dropped_at_origin", t.dropped_at_origin);
         r.stage(s, "voxel_updates", t.voxel_updates);
+        r.stage(s, "rays", t.rays);
+        r.stage(s, "rays_per_point",
+                t.points_integrated ? static_cast<double>(t.rays) / static_cast<double>(t.points_integrated) : 0.0);
         r.stage(s, "carving_updates", t.carving_updates);
         r.stage(s, "leaves_reloaded", t.leaves_reloaded);
         r.stage(s, "leaves_retired", t.leaves_retired);
@@ -258,6 +281,7 @@ private:
     double weight_floor_ = 0.1, max_weight_ = 1000.0;
     double range_noise_m_ = 0.02, noise_ratio_ = 3.0, falloff_vox_ = 1.0;
     bool space_carving_ = false;
+    std::string merge_points_;
     int working_set_scans_ = 4;
     AtsdfConfig config_;
 };

@@ -35,6 +35,12 @@ struct AtsdfConfig {
     /// Space carving: along the ray from the sensor to (point - eps), voxels that are already
     /// allocated are updated with sdf = +eps_max (free space). Never allocates free space.
     bool space_carving = false;
+    /// 0: every point walks its own ray. 1 (2): the points of a scan that fall in one voxel (in
+    /// one cell of half a voxel's side) update the map as one ray: their mean, with their count
+    /// as weight. Exact where their rays cross the same voxels with the same weights (the sdf
+    /// n . (c - p) is linear in p, one normal per block); near the sensor, where a voxel holds
+    /// many points, it saves most of the ray walks.
+    int merge_divisions = 0;
     double min_range_m = 1e-3;      ///< closer to the sensor: dropped as "at origin"
     double max_range_m = 1000.0;    ///< further: dropped as absurd range
     /// A leaf stays dense in the map's working tree while one of the last `working_set_scans`
@@ -55,6 +61,7 @@ struct IntegrationStats {
     std::size_t dropped_non_finite = 0;
     std::size_t dropped_at_origin = 0;
     std::size_t dropped_range = 0;
+    std::size_t rays = 0;  ///< rays walked: points_integrated, or fewer with merge_divisions
     std::size_t voxel_updates = 0;
     std::size_t carving_updates = 0;
     std::size_t leaves_reloaded = 0;  ///< compact leaves moved back into the working tree
@@ -80,11 +87,13 @@ struct IntegrationStats {
 ///  2. mergeStatistics: each block's batch statistics (batchStatsIndexed) are merged into its
 ///     BlockEntry (paper Eq. (1)), then its plane (Eq. (2), (3)) and eps (Eq. (4)) are
 ///     recomputed: a point uses the eps of its own block AFTER the current scan's merge;
+///     gatherRays: the block's rays, each point or (merge_divisions) one per cell of its
+///     points, their mean weighted by their count;
 ///     borrowNormals: the normal used for a block's points is its own plane's; a degenerate
 ///     block borrows the n-weighted mean of its 26 neighbours' valid normals (re-oriented
 ///     towards the sensor), and only without any valid neighbour falls back to the ray
 ///     direction (sdf along the ray, incidence weight 1);
-///     planSegments: each point's segment along its ray, t in [-front, back] around the point
+///     planSegments: each ray's segment, t in [-front, back] around the point
 ///     (rayBandFor, Truncation.h): [-eps, eps] in the paper and fixed modes; in the adaptive
 ///     mode at least b = grazing_band_m across the surface (b / |n . d| along the ray, in front
 ///     up to L_max, behind max(eps, b) but at most b across the surface);
@@ -101,7 +110,7 @@ struct IntegrationStats {
 /// groups blocks into cells twice as wide as the update reach (map/CellColouring.h) and runs the
 /// 8 colour classes (cell coordinate mod 2) one after another, cells of one colour in parallel.
 /// Cells of one colour never write the same voxel, and each voxel sees its updates in a fixed
-/// order (colour, cell, then block order of first appearance, then point order): the result does not
+/// order (colour, cell, then block order of first appearance, then ray order): the result does not
 /// depend on the thread count. No atomics, no locks in the voxel loop.
 class AtsdfIntegrator {
 public:
