@@ -154,7 +154,7 @@ inline std::size_t integrateRay(const RaySegment& seg, const Vec3f& p_W, const V
     for (int s = 0; s < max_steps; ++s) {
         const float d = sdf > eps_m ? eps_m : (sdf < -eps_m ? -eps_m : sdf);
         const float falloff = distanceFalloff(t, inv_falloff2, falloff_floor,
-                                              [](float x) { return fastReciprocal(x); });
+                                              [](float x) { return reciprocalEstimate(x); });
         const float w = w_inc * falloff * behindSurfaceFactor(d, eps_m, voxel_m, inv_dropoff);
         if (in_leaf && w > 0.0f) {
             sink.update(ax.ijk, ay.ijk, az.ijk, offset, d, w);
