@@ -56,6 +56,10 @@ TEST_CASE("Bad configuration is rejected with the key name", "[tsdf][integrate]"
     ws.working_set_scans = 0;
     CHECK_THROWS_WITH(AtsdfIntegrator(map, ws),
                       Catch::Contains("working_set_scans") && Catch::Contains("got 0"));
+    AtsdfConfig merge;
+    merge.merge_divisions = 3;
+    CHECK_THROWS_WITH(AtsdfIntegrator(map, merge),
+                      Catch::Contains("merge_divisions") && Catch::Contains("got 3"));
     CHECK_THROWS_AS(VoxelMap(-0.1), InvalidInput);
     CHECK_THROWS_AS(VoxelMap(std::nan("")), InvalidInput);
 }

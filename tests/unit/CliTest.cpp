@@ -87,6 +87,12 @@ TEST_CASE("cli: usage and configuration errors exit with 2", "[cli]") {
     CHECK(vdbmap("run '" + good.string() + "' --set testgood.echo.repeat=x") == 2);
     CHECK(vdbmap("run '" + good.string() + "' --threads 0") == 2);
     CHECK(vdbmap("describe no.such_stage") == 2);
+    // A built-in stage's enumerated option names the key and the value.
+    const fs::path merge = writeFile("merge.yaml", "stages:\n  - stage: integrate.atsdf\n"
+                                                   "    merge_points: half\n");
+    CHECK(vdbmap("run --check '" + merge.string() + "'", &out) == 2);
+    CHECK(out.find("merge.yaml:2:5") != std::string::npos);
+    CHECK(out.find("'merge_points' must be auto, none, voxel or half_voxel, got 'half'") != std::string::npos);
     const fs::path abi = writeFile("abi.yaml", "plugins: ['" +
                                                    (kPluginDir / "vdbmap_plugin_badabi.so").string() +
                                                    "']\nstages:\n  - stage: x.y\n");

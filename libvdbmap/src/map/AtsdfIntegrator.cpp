@@ -60,8 +60,8 @@ struct PointRun {
 struct LocalBlock {
     std::int32_t slot = -1;  ///< index into BlockStatsGrid
     std::uint32_t begin = 0, end = 0;
-    /// Its rays (phase 2c) are [begin, ray_end) of Scratch::ray_point: its points, or with
-    /// merge_points_per_voxel one per voxel they fall in.
+    /// Its rays (gatherRays) are [begin, ray_end) of Scratch::ray_point: its points, or with
+    /// merge_divisions one per cell they fall in.
     std::uint32_t ray_end = 0;
     Vec3d normal = Vec3d::Zero();  ///< normal used for the block's points (zero: ray direction)
     /// P_flat of that normal's plane (borrowed: the neighbours' n-weighted mean): the share of
@@ -72,7 +72,7 @@ struct LocalBlock {
 
 using detail::LeafNeighbourhood;
 
-/// The cells of one 8^3 block seen so far while its points are merged into rays (phase 2c,
+/// The cells of one 8^3 block seen so far while its points are merged into rays (phase 2,
 /// AtsdfConfig::merge_divisions s: cells of a voxel / s side, (8 s)^3 per block): the ray of
 /// each cell (-1: none yet), the sum of its points' offsets from the ray's first point, and the
 /// cells used (to reset them).
@@ -109,7 +109,7 @@ struct AtsdfIntegrator::Scratch {
     std::vector<LocalBlock> local;
     std::vector<std::uint32_t> count;
     std::vector<std::uint32_t> order;
-    /// Per thread: the cells of merge_divisions (phase 2c).
+    /// Per thread: the cells of merge_divisions (gatherRays).
     tbb::enumerable_thread_specific<CellRays> cell_rays;
     std::vector<Vec3f> ray_point;             ///< per ray: its point (LocalBlock::ray_end)
     std::vector<float> ray_count;             ///< per ray: the points it stands for
@@ -518,10 +518,10 @@ bool AtsdfIntegrator::ScanPass::landsOnPlane(BlockIndexAccessor& index, const Ve
 }
 
 std::uint32_t AtsdfIntegrator::ScanPass::gatherRays(const LocalBlock& lb, CellRays* cells_or_null) const {
-    // The block's rays (phase 2) into [lb.begin, returned end) of ray_point and ray_count: each point, or
-    // (merge_divisions s > 0) the mean of the points of each cell (voxel / s) with their count,
-    // in the order the cells are first seen. The mean is the first point plus the mean offset
-    // from it, so that a cell of one point keeps it exactly.
+    // The block's rays (phase 2) into [lb.begin, returned end) of ray_point and ray_count:
+    // each point, or (merge_divisions s > 0) the mean of the points of each cell (voxel / s)
+    // with their count, in the order the cells are first seen. The mean is the first point
+    // plus the mean offset from it, so that a cell of one point keeps it exactly.
     Vec3f* ray_point = s_.ray_point.data();
     float* ray_count = s_.ray_count.data();
     if (cells_or_null == nullptr) {  // merge_divisions 0
@@ -568,8 +568,8 @@ std::uint32_t AtsdfIntegrator::ScanPass::gatherRays(const LocalBlock& lb, CellRa
 }
 
 void AtsdfIntegrator::ScanPass::planSegments() {
-    // Parallel over blocks: each point's ray direction, update segment (kept for phase 3) and
-    // the leaves it crosses. The segment along the ray is rayBandFor (Truncation.h): [-eps, eps]
+    // Parallel over blocks: each ray's direction, update segment (kept for phase 3) and the
+    // leaves it crosses. The segment along the ray is rayBandFor (Truncation.h): [-eps, eps]
     // in the paper and fixed modes; in the adaptive mode a band of at least b across the
     // surface, widened in front of the point up to L_max, behind max(eps, b) along the ray but
     // no deeper than b across the surface.
