@@ -51,11 +51,7 @@ public:
             if (!p.allFinite()) continue;
             const double range = (p.cast<double>() - sensor).norm();
             if (range < c_.min_range_m || range > c_.max_range_m) continue;
-            const float inv = static_cast<float>(1.0 / vs_);
-            const openvdb::Coord v(static_cast<int>(std::floor(p.x() * inv + 0.5f)),
-                                   static_cast<int>(std::floor(p.y() * inv + 0.5f)),
-                                   static_cast<int>(std::floor(p.z() * inv + 0.5f)));
-            scan[openvdb::Coord(v.x() >> 3, v.y() >> 3, v.z() >> 3)].push_back(p.cast<double>());
+            scan[blockOf(p)].push_back(p.cast<double>());
         }
         // 2. Eq. (1) merge, plane (Eq. 2, 3) and eps (Eq. 4) of every block of the scan.
         for (const auto& [key, pts] : scan) {
@@ -90,10 +86,11 @@ private:
 
     Rays perCell(const std::vector<Vec3d>& pts) const {
         std::map<openvdb::Coord, std::size_t> ray_of_cell;
-        std::vector<Vec3d> sum;  // of the offsets from the voxel's first point
+        std::vector<Vec3d> sum;  // of the offsets from the cell's first point
         Rays rays;
         for (const Vec3d& p : pts) {
-            const auto [it, first] = ray_of_cell.emplace(cellOf(p.cast<float>()), rays.size());
+            const auto [it, first] =
+                ray_of_cell.emplace(cellOf(p.cast<float>(), c_.merge_divisions), rays.size());
             if (first) {
                 rays.emplace_back(p, 1.0);
                 sum.push_back(Vec3d::Zero());
@@ -106,13 +103,20 @@ private:
         return rays;
     }
 
-    /// The cell of a point: floor((p / voxel + 1/2) s), in float as the integrator.
-    openvdb::Coord cellOf(const Vec3f& p) const {
-        const float s = static_cast<float>(c_.merge_divisions);
+    /// The cell of a point: floor((p / voxel + 1/2) s), in float as the integrator; s = 1: its
+    /// voxel (voxel i covers [i - 1/2, i + 1/2)).
+    openvdb::Coord cellOf(const Vec3f& p, int divisions) const {
+        const float s = static_cast<float>(divisions);
         const float inv = static_cast<float>(1.0 / vs_);
         return openvdb::Coord(static_cast<int>(std::floor((p.x() * inv + 0.5f) * s)),
                               static_cast<int>(std::floor((p.y() * inv + 0.5f) * s)),
                               static_cast<int>(std::floor((p.z() * inv + 0.5f) * s)));
+    }
+
+    /// The 8^3 block of a point's voxel.
+    openvdb::Coord blockOf(const Vec3f& p) const {
+        const openvdb::Coord v = cellOf(p, 1);
+        return openvdb::Coord(v.x() >> 3, v.y() >> 3, v.z() >> 3);
     }
 
     /// The block's own normal; a degenerate block's: the n-weighted mean of its 26 neighbours'
@@ -145,12 +149,7 @@ private:
     /// q: its own (with a normal within ~25 deg of n) or, without one, n's through the mean of
     /// its points (the integrator's landsOnPlane).
     bool landsOnPlane(const Vec3d& q, const Vec3d& n) const {
-        const float inv = static_cast<float>(1.0 / vs_);
-        const Vec3f qf = q.cast<float>();
-        const openvdb::Coord v(static_cast<int>(std::floor(qf.x() * inv + 0.5f)),
-                               static_cast<int>(std::floor(qf.y() * inv + 0.5f)),
-                               static_cast<int>(std::floor(qf.z() * inv + 0.5f)));
-        const auto it = blocks_.find(openvdb::Coord(v.x() >> 3, v.y() >> 3, v.z() >> 3));
+        const auto it = blocks_.find(blockOf(q.cast<float>()));
         if (it == blocks_.end() || it->second.stats.n <= 0.0) return false;
         const bool valid = it->second.plane.valid;
         const Vec3d& m = valid ? it->second.plane.normal : n;

@@ -11,7 +11,6 @@
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <memory>
 #include <sstream>
 
 #include "map/CellColouring.h"
