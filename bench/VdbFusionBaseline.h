@@ -6,7 +6,8 @@
 //   - per point: the direction normalised as an openvdb::Vec3R, the depth as a float, and a
 //     float ray (openvdb::math::Ray<float>) over [depth - trunc, depth + trunc] taken to index
 //     space and walked by openvdb::math::DDA;
-//   - per voxel: the centre indexToWorld(v) + voxel / 2 as an Eigen::Vector3d, the sdf
+//   - per voxel: the centre indexToWorld(v) + voxel / 2 as an Eigen::Vector3d (the voxel size
+//     asked of the transform each time, a float), the sdf
 //     sign * |p - c| with sign = proj / |proj| (a division, as they write it), skipped unless
 //     sdf > -trunc, the weight from a std::function<float(float)> (their pipelines pass a
 //     constant 1), and the running average through unsafe accessors of the tsdf and weight
@@ -81,8 +82,10 @@ public:
     }
 
 private:
-    Eigen::Vector3d voxelCentre(const openvdb::Coord& voxel, const openvdb::math::Transform& xform) const {
-        const openvdb::Vec3d c = xform.indexToWorld(voxel) + voxel_size_m_ / 2.0;
+    /// As their GetVoxelCenter: the voxel size is asked of the transform for every voxel.
+    static Eigen::Vector3d voxelCentre(const openvdb::Coord& voxel, const openvdb::math::Transform& xform) {
+        const float voxel_size = static_cast<float>(xform.voxelSize()[0]);
+        const openvdb::Vec3d c = xform.indexToWorld(voxel) + voxel_size / 2.0;
         return Eigen::Vector3d(c.x(), c.y(), c.z());
     }
 
