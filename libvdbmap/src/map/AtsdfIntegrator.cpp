@@ -601,13 +601,12 @@ void AtsdfIntegrator::ScanPass::planSegments() {
                 if (has_normal) {  // rayBandFor (Truncation.h), in float
                     const float c = std::abs(normal.dot(dir));
                     AdaptiveBand<float> ab = adaptiveBand(eps, c, band, l_max, both_sides);
-                    // Reach the next ring, if it lands on this surface: back = max(back,
-                    // min(g, b / c, L_max)) (adaptiveBand with the gap). Where min(b / c, L_max)
-                    // is no longer than the band already is (frontal points) g cannot matter.
-                    const float grazing = grazingReach(c, band, l_max);
-                    if (rings && grazing > ab.back_m) {
+                    // Reach the next ring, if it lands on this surface (AdaptiveBand::backToRing).
+                    // Where the reach is no longer than the band already is (frontal points)
+                    // the gap cannot matter.
+                    if (rings && ab.reach_m > ab.back_m) {
                         const float to_ring =
-                            std::min(rings->surfaceGap(dir, normal, s_.up_W, range), grazing);
+                            ab.backToRing(rings->surfaceGap(dir, normal, s_.up_W, range));
                         if (to_ring > ab.back_m && landsOnPlane(index, p, dir, normal, to_ring, band))
                             ab.back_m = to_ring;
                     }

@@ -95,25 +95,34 @@ struct RayBand {
 RayBand rayBandFor(const TruncationParams& params, double eps_m, double cos_incidence,
                    double gap_m = 0.0);
 
-/// The adaptive branch of rayBandFor for eps <= l_max and c = |n . d| in [0, 1], in any
-/// precision (the integrator's float, rayBandFor's double): {front, back} along the ray; gap:
-/// the surface gap to the next ring behind the point (0: none known).
-template <typename Scalar>
-struct AdaptiveBand {
-    Scalar front_m, back_m;
-};
 /// min(b / c, L_max): how far along the ray a band b across the surface reaches (division-free
 /// when the cap applies, so c = 0 is safe).
 template <typename Scalar>
 inline Scalar grazingReach(Scalar c, Scalar b, Scalar l_max) {
     return c * l_max > b ? b / c : l_max;
 }
+
+/// The adaptive branch of rayBandFor for eps <= l_max and c = |n . d| in [0, 1], in any
+/// precision (the integrator's float, rayBandFor's double): {front, back} along the ray, and
+/// the reach min(b / c, L_max) that the band behind may extend to when the next ring lands on
+/// the same surface.
+template <typename Scalar>
+struct AdaptiveBand {
+    Scalar front_m, back_m;
+    Scalar reach_m;  ///< grazingReach(c, b, L_max)
+    /// The band behind, extended to the next ring at surface gap `gap_m` behind the point
+    /// (grazing_band_to_next_ring): max(back, min(gap, b / c, L_max)). A gap of 0 keeps it.
+    Scalar backToRing(Scalar gap_m) const { return std::max(back_m, std::min(gap_m, reach_m)); }
+};
+/// gap: the surface gap to the next ring behind the point (0: none known).
 template <typename Scalar>
 inline AdaptiveBand<Scalar> adaptiveBand(Scalar eps, Scalar c, Scalar b, Scalar l_max,
                                          bool both_sides, Scalar gap = Scalar(0)) {
-    const Scalar grazing = grazingReach(c, b, l_max);
-    const Scalar back = both_sides ? grazing : std::min(std::max(eps, b), grazing);
-    return {std::min(std::max(eps, grazing), l_max), std::max(back, std::min(gap, grazing))};
+    const Scalar reach = grazingReach(c, b, l_max);
+    const Scalar back = both_sides ? reach : std::min(std::max(eps, b), reach);
+    AdaptiveBand<Scalar> band{std::min(std::max(eps, reach), l_max), back, reach};
+    band.back_m = band.backToRing(gap);
+    return band;
 }
 
 /// The longest half-length any point can get (the update reach of the integrator).
