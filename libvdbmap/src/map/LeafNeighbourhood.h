@@ -26,7 +26,22 @@ struct LeafNeighbourhood {
     explicit LeafNeighbourhood(int reach_vox)
         : radius(std::max(1, (reach_vox + 7) / 8)),
           side(2 * radius + 1),
-          words((static_cast<std::size_t>(side) * side * side + 63) / 64) {}
+          words((static_cast<std::size_t>(side) * side * side + 63) / 64) {
+        // slab_[a][(lo, hi)]: the bits of the leaves whose offset along axis a is in [lo, hi].
+        for (int a = 0; a < 3; ++a) {
+            slab_[a].assign(static_cast<std::size_t>(side * side) * words, 0);
+            for (int lo = -radius; lo <= radius; ++lo)
+                for (int hi = lo; hi <= radius; ++hi) {
+                    std::uint64_t* m = slab(a, lo, hi);
+                    for (int u = -radius; u <= radius; ++u)
+                        for (int v = -radius; v <= radius; ++v)
+                            for (int c = lo; c <= hi; ++c) {
+                                const std::size_t b = a == 0 ? bit(c, u, v) : (a == 1 ? bit(u, c, v) : bit(u, v, c));
+                                m[b / 64] |= std::uint64_t{1} << (b % 64);
+                            }
+                }
+        }
+    }
 
     std::size_t size() const { return static_cast<std::size_t>(side) * side * side; }
     /// Bit of the leaf at block-relative leaf offset (dx, dy, dz), each in [-R, R].
@@ -40,6 +55,25 @@ struct LeafNeighbourhood {
                   dx = i / (side * side) - radius;
         return openvdb::Coord((bc.x() + dx) * 8, (bc.y() + dy) * 8, (bc.z() + dz) * 8);
     }
+    /// Sets in `bits` the leaves of the box [x0, x1] x [y0, y1] x [z0, z1] (block-relative leaf
+    /// offsets, each clipped to [-R, R] by the caller; an empty range sets none): the AND of
+    /// three slabs, a word at a time.
+    void markBox(std::uint64_t* bits, int x0, int x1, int y0, int y1, int z0, int z1) const {
+        if (x0 > x1 || y0 > y1 || z0 > z1) return;
+        const std::uint64_t* mx = slab(0, x0, x1);
+        const std::uint64_t* my = slab(1, y0, y1);
+        const std::uint64_t* mz = slab(2, z0, z1);
+        for (std::size_t w = 0; w < words; ++w) bits[w] |= mx[w] & my[w] & mz[w];
+    }
+
+private:
+    const std::uint64_t* slab(int a, int lo, int hi) const {
+        return slab_[a].data() + static_cast<std::size_t>((lo + radius) * side + (hi + radius)) * words;
+    }
+    std::uint64_t* slab(int a, int lo, int hi) {
+        return slab_[a].data() + static_cast<std::size_t>((lo + radius) * side + (hi + radius)) * words;
+    }
+    std::vector<std::uint64_t> slab_[3];
 };
 
 using vdbmap::forEachSetBit;
