@@ -71,6 +71,12 @@ struct LocalBlock {
 
 using detail::LeafNeighbourhood;
 
+/// planSegments' working values of one ray.
+struct RayPlan {
+    float range_m = 0.0f;
+    AdaptiveBand<float> band{0.0f, 0.0f, 0.0f};  ///< {front, back, reach}; paper, fixed: eps
+};
+
 /// The cells of one 8^3 block seen so far while its points are merged into rays (phase 2,
 /// AtsdfConfig::merge_divisions s: cells of a voxel / s side, (8 s)^3 per block): the ray of
 /// each cell (-1: none yet), the sum of its points' offsets from the ray's first point, and the
@@ -114,6 +120,8 @@ struct AtsdfIntegrator::Scratch {
     std::vector<float> ray_count;             ///< per ray: the points it stands for
     std::vector<Vec3f> dir;                   ///< unit direction per ray
     std::vector<detail::RaySegment> segment;  ///< update segment per ray
+    /// Per ray, while planSegments runs: its range and its band along the ray.
+    std::vector<RayPlan> plan;
     std::vector<std::uint64_t> leaf_bits;     ///< LeafNeighbourhood bits per local block
     std::vector<std::uint64_t> missing_bits;  ///< those of leaves not allocated yet
     std::vector<std::uint32_t> by_cell;
@@ -486,15 +494,8 @@ void AtsdfIntegrator::ScanPass::markLeaves(std::uint64_t* bits, const Coord& bc,
         return;
     }
     const int R = hood_.radius;
-    const int x0 = std::max(lo.x(), -R), x1 = std::min(hi.x(), R);
-    const int y0 = std::max(lo.y(), -R), y1 = std::min(hi.y(), R);
-    const int z0 = std::max(lo.z(), -R), z1 = std::min(hi.z(), R);
-    for (int x = x0; x <= x1; ++x)
-        for (int y = y0; y <= y1; ++y)
-            for (int z = z0; z <= z1; ++z) {
-                const std::size_t bit = hood_.bit(x, y, z);
-                bits[bit / 64] |= std::uint64_t{1} << (bit % 64);
-            }
+    hood_.markBox(bits, std::max(lo.x(), -R), std::min(hi.x(), R), std::max(lo.y(), -R),
+                  std::min(hi.y(), R), std::max(lo.z(), -R), std::min(hi.z(), R));
 }
 
 bool AtsdfIntegrator::ScanPass::landsOnPlane(BlockIndexAccessor& index, const Vec3f& p,
@@ -582,6 +583,10 @@ void AtsdfIntegrator::ScanPass::planSegments() {
     const float band = static_cast<float>(trunc_.grazing_band_m);
     const bool both_sides = trunc_.grazing_band_both_sides;
     const RingSpacing* rings = s_.use_rings ? &s_.rings : nullptr;
+    // Each step is its own loop over the block's rays: a step's square root and divisions are
+    // long-latency operations, and in a short loop body the processor overlaps those of
+    // successive rays (one loop doing all steps per ray waited on each in turn).
+    s_.plan.resize(n);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, s_.local.size(), 16),
                       [&](const tbb::blocked_range<std::size_t>& r) {
         BlockIndexAccessor index(blocks_.indexTree());
@@ -590,33 +595,46 @@ void AtsdfIntegrator::ScanPass::planSegments() {
             const float eps = blocks_.entry(lb.slot).truncation_m;
             const bool has_normal = along_normal && lb.normal.squaredNorm() > 0.0;
             const Vec3f normal = lb.normal.cast<float>();
+            RayPlan* plan = s_.plan.data();
+            // (a) Direction and range.
+            for (std::uint32_t k = lb.begin; k < lb.ray_end; ++k) {
+                const Vec3f ray = s_.ray_point[k] - origin_f_;
+                const float range = std::sqrt(ray.squaredNorm());
+                s_.dir[k] = ray * (1.0f / range);  // one division
+                plan[k].range_m = range;
+            }
+            // (b) The band along the ray: rayBandFor (Truncation.h), in float.
+            if (has_normal) {
+                for (std::uint32_t k = lb.begin; k < lb.ray_end; ++k) {
+                    const float c = std::abs(normal.dot(s_.dir[k]));
+                    plan[k].band = adaptiveBand(eps, c, band, l_max, both_sides);
+                }
+            } else {
+                for (std::uint32_t k = lb.begin; k < lb.ray_end; ++k) plan[k].band = {eps, eps, eps};
+            }
+            // (c) Reach the next ring, if it lands on this surface (AdaptiveBand::backToRing).
+            // Where the reach is no longer than the band already is (frontal points) the gap
+            // cannot matter.
+            if (has_normal && rings != nullptr) {
+                for (std::uint32_t k = lb.begin; k < lb.ray_end; ++k) {
+                    AdaptiveBand<float>& ab = plan[k].band;
+                    if (!(ab.reach_m > ab.back_m)) continue;
+                    const Vec3f& dir = s_.dir[k];
+                    const float to_ring =
+                        ab.backToRing(rings->surfaceGap(dir, normal, s_.up_W, plan[k].range_m));
+                    if (to_ring > ab.back_m &&
+                        landsOnPlane(index, s_.ray_point[k], dir, normal, to_ring, band))
+                        ab.back_m = to_ring;
+                }
+            }
+            // (d) The segment and the leaves it crosses.
             const Coord bc = blocks_.blockCoord(lb.slot);
             std::uint64_t* bits = s_.leaf_bits.data() + b * hood_.words;
             for (std::uint32_t k = lb.begin; k < lb.ray_end; ++k) {
-                const Vec3f& p = s_.ray_point[k];
-                const Vec3f ray = p - origin_f_;
-                const float range = std::sqrt(ray.squaredNorm());
-                const Vec3f dir = ray * (1.0f / range);  // one division
-                float front = eps, back = eps;
-                if (has_normal) {  // rayBandFor (Truncation.h), in float
-                    const float c = std::abs(normal.dot(dir));
-                    AdaptiveBand<float> ab = adaptiveBand(eps, c, band, l_max, both_sides);
-                    // Reach the next ring, if it lands on this surface (AdaptiveBand::backToRing).
-                    // Where the reach is no longer than the band already is (frontal points)
-                    // the gap cannot matter.
-                    if (rings && ab.reach_m > ab.back_m) {
-                        const float to_ring =
-                            ab.backToRing(rings->surfaceGap(dir, normal, s_.up_W, range));
-                        if (to_ring > ab.back_m && landsOnPlane(index, p, dir, normal, to_ring, band))
-                            ab.back_m = to_ring;
-                    }
-                    front = ab.front_m;
-                    back = ab.back_m;
-                }
-                const detail::RaySegment seg = detail::RaySegment::of(p, dir, front, back, inv_vs_f_);
-                s_.dir[k] = dir;
+                const detail::RaySegment seg = detail::RaySegment::of(
+                    s_.ray_point[k], s_.dir[k], plan[k].band.front_m, plan[k].band.back_m, inv_vs_f_);
                 s_.segment[k] = seg;
-                markLeaves(bits, bc, seg, dir);
+                markLeaves(bits, bc, seg, s_.dir[k]);
             }
         }
     });
