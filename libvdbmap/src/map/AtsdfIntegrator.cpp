@@ -30,7 +30,9 @@ namespace vdbmap {
 
 using openvdb::Coord;
 
-namespace {
+// Named rather than anonymous: AtsdfIntegrator::Scratch (declared in the header) holds these
+// types, and a member of an anonymous-namespace type would give it internal linkage.
+namespace atsdf_scan {
 
 constexpr std::size_t kPointChunk = 4096;
 /// Points further than this many voxels from the world origin are dropped as absurd ranges
@@ -100,7 +102,9 @@ double minPlaneSpread(const AtsdfConfig& config, double voxel_m) {
     return std::max(0.25 * voxel_m, 2.0 * config.range_noise_m);
 }
 
-}  // namespace
+}  // namespace atsdf_scan
+
+using namespace atsdf_scan;
 
 /// Per-scan buffers of integrateScan, kept between scans.
 struct AtsdfIntegrator::Scratch {

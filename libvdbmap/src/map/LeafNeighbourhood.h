@@ -32,11 +32,12 @@ struct LeafNeighbourhood {
             slab_[a].assign(static_cast<std::size_t>(side * side) * words, 0);
             for (int lo = -radius; lo <= radius; ++lo)
                 for (int hi = lo; hi <= radius; ++hi) {
-                    std::uint64_t* m = slab(a, lo, hi);
+                    std::uint64_t* m = slab_[a].data() + slabOffset(lo, hi);
                     for (int u = -radius; u <= radius; ++u)
                         for (int v = -radius; v <= radius; ++v)
                             for (int c = lo; c <= hi; ++c) {
-                                const std::size_t b = a == 0 ? bit(c, u, v) : (a == 1 ? bit(u, c, v) : bit(u, v, c));
+                                const std::size_t b =
+                                    a == 0 ? bit(c, u, v) : (a == 1 ? bit(u, c, v) : bit(u, v, c));
                                 m[b / 64] |= std::uint64_t{1} << (b % 64);
                             }
                 }
@@ -60,18 +61,15 @@ struct LeafNeighbourhood {
     /// three slabs, a word at a time.
     void markBox(std::uint64_t* bits, int x0, int x1, int y0, int y1, int z0, int z1) const {
         if (x0 > x1 || y0 > y1 || z0 > z1) return;
-        const std::uint64_t* mx = slab(0, x0, x1);
-        const std::uint64_t* my = slab(1, y0, y1);
-        const std::uint64_t* mz = slab(2, z0, z1);
+        const std::uint64_t* mx = slab_[0].data() + slabOffset(x0, x1);
+        const std::uint64_t* my = slab_[1].data() + slabOffset(y0, y1);
+        const std::uint64_t* mz = slab_[2].data() + slabOffset(z0, z1);
         for (std::size_t w = 0; w < words; ++w) bits[w] |= mx[w] & my[w] & mz[w];
     }
 
 private:
-    const std::uint64_t* slab(int a, int lo, int hi) const {
-        return slab_[a].data() + static_cast<std::size_t>((lo + radius) * side + (hi + radius)) * words;
-    }
-    std::uint64_t* slab(int a, int lo, int hi) {
-        return slab_[a].data() + static_cast<std::size_t>((lo + radius) * side + (hi + radius)) * words;
+    std::size_t slabOffset(int lo, int hi) const {
+        return static_cast<std::size_t>((lo + radius) * side + (hi + radius)) * words;
     }
     std::vector<std::uint64_t> slab_[3];
 };
