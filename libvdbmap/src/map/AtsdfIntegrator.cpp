@@ -180,6 +180,14 @@ void validateAtsdfConfig(const AtsdfConfig& c, const std::string& who) {
     if (c.merge_divisions < 0 || c.merge_divisions > 2) bad("merge_divisions", c.merge_divisions, "0, 1 or 2");
 }
 
+double mergedRayFrontExtension(const AtsdfConfig& config, double voxel_size_m) {
+    return config.merge_divisions > 0 ? 0.5 * std::sqrt(3.0) * voxel_size_m / config.merge_divisions : 0.0;
+}
+
+double maxUpdateReach(const AtsdfConfig& config, double voxel_size_m) {
+    return maxHalfLength(config.truncation) + mergedRayFrontExtension(config, voxel_size_m);
+}
+
 AtsdfIntegrator::AtsdfIntegrator(VoxelMap& map, const AtsdfConfig& config)
     : map_(map), config_(config), scratch_(std::make_unique<Scratch>(config.merge_divisions)) {
     validateAtsdfConfig(config_, "integrate.atsdf");
@@ -237,9 +245,10 @@ public:
           origin_f_(origin_W.cast<float>()),
           vs_(map.voxelSize()),
           inv_vs_f_(static_cast<float>(1.0 / map.voxelSize())),
-          // Update reach in voxels: the longest half-length along a ray, one voxel of rounding
-          // at each end, one voxel of margin.
-          hood_(static_cast<int>(std::ceil(maxHalfLength(config.truncation) / map.voxelSize())) + 2),
+          // Update reach in voxels: the longest half-length along a ray (a merged ray's front
+          // included), one voxel of rounding at each end, one voxel of margin.
+          hood_(static_cast<int>(std::ceil(maxUpdateReach(config, map.voxelSize()) / map.voxelSize())) + 2),
+          merged_front_m_(static_cast<float>(mergedRayFrontExtension(config, map.voxelSize()))),
           stamp_(stamp),
           min_spread_m_(minPlaneSpread(config, map.voxelSize())) {}
 
@@ -286,6 +295,7 @@ private:
     const double vs_;
     const float inv_vs_f_;
     const LeafNeighbourhood hood_;
+    const float merged_front_m_;  ///< mergedRayFrontExtension
     const std::uint32_t stamp_;
     const double min_spread_m_;
 };
@@ -631,12 +641,14 @@ void AtsdfIntegrator::ScanPass::planSegments() {
                         ab.back_m = to_ring;
                 }
             }
-            // (d) The segment and the leaves it crosses.
+            // (d) The segment and the leaves it crosses. A merged ray's band starts further in
+            // front, where the band of its cell's nearest point would (mergedRayFrontExtension).
             const Coord bc = blocks_.blockCoord(lb.slot);
             std::uint64_t* bits = s_.leaf_bits.data() + b * hood_.words;
             for (std::uint32_t k = lb.begin; k < lb.ray_end; ++k) {
+                const float front = plan[k].band.front_m + (s_.ray_count[k] > 1.0f ? merged_front_m_ : 0.0f);
                 const detail::RaySegment seg = detail::RaySegment::of(
-                    s_.ray_point[k], s_.dir[k], plan[k].band.front_m, plan[k].band.back_m, inv_vs_f_);
+                    s_.ray_point[k], s_.dir[k], front, plan[k].band.back_m, inv_vs_f_);
                 s_.segment[k] = seg;
                 markLeaves(bits, bc, seg, s_.dir[k]);
             }

@@ -113,10 +113,11 @@ public:
                  "auto, none, voxel or half_voxel: the points of a scan in one voxel (in one cell of "
                  "half a voxel's side) update the map as one ray, their mean weighted by their count "
                  "(the sdf n.(c - p) is linear in p; only the voxels their rays cross and the "
-                 "weights along them can differ); near the sensor most ray walks are saved. auto: "
-                 "half_voxel in the adaptive mode, whose band keeps b across every surface; none in "
-                 "the fixed and paper modes, whose band can be a voxel thin across a grazing surface "
-                 "(fewer rays would leave holes there)",
+                 "weights along them can differ; a merged ray's band starts half a cell diagonal "
+                 "further in front, where its nearest point's did); near the sensor most ray walks "
+                 "are saved. auto: voxel in the adaptive mode, whose band keeps b across every "
+                 "surface; none in the fixed and paper modes, whose band can be a voxel thin across "
+                 "a grazing surface (fewer rays would leave holes there)",
                  merge_points_, std::string("auto"));
         spec.add("space_carving",
                  "Push already allocated voxels in front of the band towards free space (+eps_max)",
@@ -183,7 +184,7 @@ public:
         config_.max_weight = max_weight_;
         config_.space_carving = space_carving_;
         if (merge_points_ == "auto") {
-            config_.merge_divisions = config_.truncation.mode == TruncationMode::Adaptive ? 2 : 0;
+            config_.merge_divisions = config_.truncation.mode == TruncationMode::Adaptive ? 1 : 0;
         } else if (merge_points_ == "none") {
             config_.merge_divisions = 0;
         } else if (merge_points_ == "voxel") {
@@ -206,12 +207,12 @@ public:
                                               static_cast<float>(max_weight_));
         AtsdfIntegrator integrator(*map, config_);
         // Streamed tiled runs finish tiles from this map while the scans come in; a scan
-        // changes it at most maxHalfLength past a point, plus the block statistics a point
+        // changes it at most maxUpdateReach past a point, plus the block statistics a point
         // reads (its block and their 26 neighbours: within 3.5 leaves of the point).
         ctx.setMap(map);
         const double leaf_m = 8.0 * voxel_size_m_;
         const std::vector<std::size_t> frames =
-            ctx.beginScanStream(maxHalfLength(config_.truncation) + 4.0 * leaf_m);
+            ctx.beginScanStream(maxUpdateReach(config_, voxel_size_m_) + 4.0 * leaf_m);
         DatasetIntegration run;
         {
             // Scan i + 1 is read while scan i is integrated (integrateDataset).

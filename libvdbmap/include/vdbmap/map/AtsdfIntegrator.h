@@ -39,7 +39,10 @@ struct AtsdfConfig {
     /// one cell of half a voxel's side) update the map as one ray: their mean, with their count
     /// as weight. Exact where their rays cross the same voxels with the same weights (the sdf
     /// n . (c - p) is linear in p, one normal per block); near the sensor, where a voxel holds
-    /// many points, it saves most of the ray walks.
+    /// many points, it saves most of the ray walks. The band of a ray that stands for two or
+    /// more points starts further in front of their mean, by mergedRayFrontExtension: its
+    /// points lie up to half a cell diagonal nearer the sensor, and their own bands started
+    /// there.
     int merge_divisions = 0;
     double min_range_m = 1e-3;      ///< closer to the sensor: dropped as "at origin"
     double max_range_m = 1000.0;    ///< further: dropped as absurd range
@@ -52,6 +55,15 @@ struct AtsdfConfig {
 
 /// Throws ConfigError naming the bad key and value.
 void validateAtsdfConfig(const AtsdfConfig& config, const std::string& who);
+
+/// How much further in front of its mean (towards the sensor) the band of a merged ray starts
+/// than a point's: the half-diagonal of its cell, sqrt(3) / 2 * voxel / merge_divisions, so that
+/// it covers the band in front of every point of the cell. 0 without merging.
+double mergedRayFrontExtension(const AtsdfConfig& config, double voxel_size_m);
+
+/// The furthest an update lands from its point (m): maxHalfLength of the truncation plus
+/// mergedRayFrontExtension.
+double maxUpdateReach(const AtsdfConfig& config, double voxel_size_m);
 
 /// Counts of one or more integrated scans.
 struct IntegrationStats {
