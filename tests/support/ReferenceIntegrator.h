@@ -177,7 +177,7 @@ private:
             if (to_ring.back_m > band.back_m && landsOnPlane(p + to_ring.back_m * (dir - n.dot(dir) * n), n))
                 band = to_ring;
         }
-        // A merged ray's band starts where its cell's nearest point's would.
+        // A merged ray's band starts further in front (mergedRayFrontExtension).
         if (count > 1.0) band.front_m += mergedRayFrontExtension(c_, vs_);
         detail::traverseSegment(p - band.front_m * dir, dir, band.front_m + band.back_m, 1.0 / vs_,
                                 [&](const openvdb::Coord& v) {

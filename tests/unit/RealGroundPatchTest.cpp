@@ -161,7 +161,7 @@ TEST_CASE("Real KITTI scan with the stage's default merged rays (one per voxel):
           "holes than fixed eps_min, no less accurate than fixed eps_max",
           "[tsdf][adaptive][real]") {
     // merge_points: auto is one ray per voxel in the adaptive mode, its band started half a
-    // voxel diagonal further in front (AtsdfConfig::merge_divisions). Measured: holes 6.3 %
+    // voxel diagonal further in front (mergedRayFrontExtension). Measured: holes 6.3 %
     // against 52 % (fixed 0.1), error 7.43 against 7.45 mm (fixed 0.3); holes 1.3 % against
     // 4.0 % (fixed 0.4), 10.10 against 10.33 mm (fixed 0.8). Without the longer front, merged
     // rays lost the real ground at [0.1, 0.3] (docs/results/geometry.md, "On the real scan").

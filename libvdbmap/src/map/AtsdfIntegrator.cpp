@@ -642,7 +642,7 @@ void AtsdfIntegrator::ScanPass::planSegments() {
                 }
             }
             // (d) The segment and the leaves it crosses. A merged ray's band starts further in
-            // front, where the band of its cell's nearest point would (mergedRayFrontExtension).
+            // front (mergedRayFrontExtension).
             const Coord bc = blocks_.blockCoord(lb.slot);
             std::uint64_t* bits = s_.leaf_bits.data() + b * hood_.words;
             for (std::uint32_t k = lb.begin; k < lb.ray_end; ++k) {

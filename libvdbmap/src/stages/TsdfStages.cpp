@@ -114,7 +114,8 @@ public:
                  "half a voxel's side) update the map as one ray, their mean weighted by their count "
                  "(the sdf n.(c - p) is linear in p; only the voxels their rays cross and the "
                  "weights along them can differ; a merged ray's band starts half a cell diagonal "
-                 "further in front, where its nearest point's did); near the sensor most ray walks "
+                 "further in front, which keeps the ground the separate rays covered); near the "
+                 "sensor most ray walks "
                  "are saved. auto: voxel in the adaptive mode, whose band keeps b across every "
                  "surface; none in the fixed and paper modes, whose band can be a voxel thin across "
                  "a grazing surface (fewer rays would leave holes there)",
