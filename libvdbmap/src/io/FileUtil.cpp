@@ -24,10 +24,9 @@ std::string readWholeFile(const std::filesystem::path& path) {
     }
     // A regular file: one read of its size (a 2 MB scan through a growing string buffer cost
     // several copies of it). Other files (a pipe, /proc) have no size: read them as a stream.
-    const std::uintmax_t size = std::filesystem::is_regular_file(path, ec)
-                                    ? std::filesystem::file_size(path, ec)
-                                    : static_cast<std::uintmax_t>(-1);
-    if (!ec && size != static_cast<std::uintmax_t>(-1) && size > 0) {
+    const bool regular = std::filesystem::is_regular_file(path, ec);
+    const std::uintmax_t size = regular ? std::filesystem::file_size(path, ec) : 0;
+    if (regular && !ec && size > 0) {
         std::string bytes(static_cast<std::size_t>(size), '\0');
         in.read(bytes.data(), static_cast<std::streamsize>(size));
         if (in.bad()) {
