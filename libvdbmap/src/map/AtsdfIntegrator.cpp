@@ -96,6 +96,32 @@ struct CellRays {
     }
 };
 
+/// The cells of merge_divisions s (gatherRays): a voxel / s side, (8 s)^3 per block; s = 0
+/// (every point its own ray): the voxels. Cell j = floor((p / voxel + 1/2) s) (voxel i covers
+/// [i - 1/2, i + 1/2)); the product is exact for s = 1, 2, so the voxel is j >> (s - 1)
+/// (floor(2 x) >> 1 = floor(x)) and a point's cell lies in its voxel, and so in its block.
+template <int kDivisions>
+struct MergeCell {
+    static_assert(kDivisions >= 0 && kDivisions <= 2, "merge_divisions is 0, 1 or 2");
+    static constexpr int kShift = kDivisions == 2 ? 1 : 0;
+    static constexpr int kBits = 3 + kShift;  ///< 8 s cells per block side
+    static constexpr int kMask = (1 << kBits) - 1;
+    static Coord of(const Vec3f& p, float inv_voxel) {
+        constexpr float s = kDivisions == 2 ? 2.0f : 1.0f;
+        return Coord(detail::floorToInt((p.x() * inv_voxel + 0.5f) * s),
+                     detail::floorToInt((p.y() * inv_voxel + 0.5f) * s),
+                     detail::floorToInt((p.z() * inv_voxel + 0.5f) * s));
+    }
+    static Coord voxel(const Coord& cell) {
+        return Coord(cell.x() >> kShift, cell.y() >> kShift, cell.z() >> kShift);
+    }
+    /// The cell's place in its block (its low bits, x major): CellRays' index.
+    static std::uint16_t inBlock(const Coord& cell) {
+        return static_cast<std::uint16_t>(((cell.x() & kMask) << (2 * kBits)) |
+                                          ((cell.y() & kMask) << kBits) | (cell.z() & kMask));
+    }
+};
+
 /// estimatePlane's min_spread_m: a patch narrower than a quarter voxel, or than twice the range
 /// noise (one ring's points: a ribbon along the rays), is not trusted for a normal.
 double minPlaneSpread(const AtsdfConfig& config, double voxel_m) {
@@ -120,6 +146,8 @@ struct AtsdfIntegrator::Scratch {
     std::vector<std::uint32_t> order;
     /// Per thread: the cells of merge_divisions (gatherRays).
     tbb::enumerable_thread_specific<CellRays> cell_rays;
+    /// merge_divisions > 0: each point's cell in its block (MergeCell::inBlock), from phase 1.
+    std::vector<std::uint16_t> point_cell;
     std::vector<Vec3f> ray_point;             ///< per ray: its point (LocalBlock::ray_end)
     std::vector<float> ray_count;             ///< per ray: the points it stands for
     std::vector<Vec3f> dir;                   ///< unit direction per ray
@@ -273,12 +301,17 @@ public:
 
 private:
     void classifyChunks(std::size_t n_chunks);
+    struct RangeLimits {
+        float min2, max2;  ///< squared min_range_m, max_range_m
+    };
+    using BlockIndexAccessor = openvdb::tree::ValueAccessor<const openvdb::Int32Tree, false>;
+    template <int kDivisions>
+    void classifyChunk(std::size_t c, const RangeLimits& limits, BlockIndexAccessor& index);
     void assignLocalBlocks(std::size_t n_chunks, IntegrationStats& st);
     void scatterOrder(std::size_t n_chunks);
     std::uint32_t gatherRays(const LocalBlock& lb, CellRays* cells) const;
     void markLeaves(std::uint64_t* bits, const Coord& bc, const detail::RaySegment& seg,
                     const Vec3f& dir) const;
-    using BlockIndexAccessor = openvdb::tree::ValueAccessor<const openvdb::Int32Tree, false>;
     bool landsOnPlane(BlockIndexAccessor& index, const Vec3f& p, const Vec3f& dir,
                       const Vec3f& normal, float t, float band) const;
     std::size_t integrateCell(std::size_t cell_index, detail::BlockLeafTable& table,
@@ -301,61 +334,76 @@ private:
 };
 
 void AtsdfIntegrator::ScanPass::classifyChunks(std::size_t n_chunks) {
-    // Parallel over chunks of points: classify each point and cut the chunk into runs of
-    // consecutive valid points of the same block (a scan line stays in a block for many
-    // points), looking up each run's block once.
-    const std::size_t n_points = points_W_.size();
+    // Parallel over chunks of points; one loop per merge_divisions, so that the cell arithmetic
+    // is known to the compiler.
     // Range checks on squared float ranges (no square root per point).
-    const float min_range2 = static_cast<float>(config_.min_range_m * config_.min_range_m);
     const double max_range_m = std::min(config_.max_range_m, 1e18);  // its square fits a float
-    const float max_range2 = static_cast<float>(max_range_m * max_range_m);
+    const RangeLimits limits{static_cast<float>(config_.min_range_m * config_.min_range_m),
+                             static_cast<float>(max_range_m * max_range_m)};
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n_chunks, 1),
                       [&](const tbb::blocked_range<std::size_t>& r) {
-        openvdb::tree::ValueAccessor<const openvdb::Int32Tree, false> index(blocks_.indexTree());
+        BlockIndexAccessor index(blocks_.indexTree());
         for (std::size_t c = r.begin(); c < r.end(); ++c) {
-            std::vector<PointRun>& runs = s_.runs[c];
-            runs.clear();
-            std::array<std::size_t, 3>& drops = s_.chunk_drops[c];
-            Coord prev_block = Coord::max();
-            std::int32_t prev_slot = -1;
-            bool in_run = false;
-            const std::size_t end = std::min(n_points, (c + 1) * kPointChunk);
-            for (std::size_t i = c * kPointChunk; i < end; ++i) {
-                const Vec3f& p = points_W_[i];
-                if (!(std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z()))) {
-                    ++drops[kNonFinite - 1];
-                    in_run = false;
-                    continue;
-                }
-                const float range2 = (p - origin_f_).squaredNorm();
-                if (range2 < min_range2) {
-                    ++drops[kAtOrigin - 1];
-                    in_run = false;
-                    continue;
-                }
-                // Beyond max_range_m, or beyond the int voxel index range.
-                if (range2 > max_range2 || !(std::abs(p.x() * inv_vs_f_) < kMaxIndex &&
-                                             std::abs(p.y() * inv_vs_f_) < kMaxIndex &&
-                                             std::abs(p.z() * inv_vs_f_) < kMaxIndex)) {
-                    ++drops[kRange - 1];
-                    in_run = false;
-                    continue;
-                }
-                const Coord block = BlockStatsGrid::blockOf(detail::voxelOf(p, inv_vs_f_));
-                if (block != prev_block) {
-                    prev_block = block;
-                    prev_slot = index.getValue(block);
-                    in_run = false;
-                }
-                if (in_run) {
-                    ++runs.back().length;
-                } else {
-                    runs.push_back({static_cast<std::uint32_t>(i), 1, prev_slot, 0, block});
-                    in_run = true;
-                }
+            switch (config_.merge_divisions) {
+                case 0: classifyChunk<0>(c, limits, index); break;
+                case 1: classifyChunk<1>(c, limits, index); break;
+                default: classifyChunk<2>(c, limits, index); break;
             }
         }
     });
+}
+
+template <int kDivisions>
+void AtsdfIntegrator::ScanPass::classifyChunk(std::size_t c, const RangeLimits& limits,
+                                              BlockIndexAccessor& index) {
+    // Classify each point of chunk c and cut the chunk into runs of consecutive valid points of
+    // the same block (a scan line stays in a block for many points), looking up each run's
+    // block once. With merged rays, each point's cell in its block is kept for gatherRays.
+    using Cell = MergeCell<kDivisions>;
+    std::vector<PointRun>& runs = s_.runs[c];
+    runs.clear();
+    std::array<std::size_t, 3>& drops = s_.chunk_drops[c];
+    std::uint16_t* cell_in_block = s_.point_cell.data();
+    Coord prev_block = Coord::max();
+    std::int32_t prev_slot = -1;
+    bool in_run = false;
+    const std::size_t end = std::min(points_W_.size(), (c + 1) * kPointChunk);
+    for (std::size_t i = c * kPointChunk; i < end; ++i) {
+        const Vec3f& p = points_W_[i];
+        if (!(std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z()))) {
+            ++drops[kNonFinite - 1];
+            in_run = false;
+            continue;
+        }
+        const float range2 = (p - origin_f_).squaredNorm();
+        if (range2 < limits.min2) {
+            ++drops[kAtOrigin - 1];
+            in_run = false;
+            continue;
+        }
+        // Beyond max_range_m, or beyond the int voxel index range.
+        if (range2 > limits.max2 || !(std::abs(p.x() * inv_vs_f_) < kMaxIndex &&
+                                      std::abs(p.y() * inv_vs_f_) < kMaxIndex &&
+                                      std::abs(p.z() * inv_vs_f_) < kMaxIndex)) {
+            ++drops[kRange - 1];
+            in_run = false;
+            continue;
+        }
+        const Coord cell = Cell::of(p, inv_vs_f_);
+        const Coord block = BlockStatsGrid::blockOf(Cell::voxel(cell));
+        if constexpr (kDivisions > 0) cell_in_block[i] = Cell::inBlock(cell);
+        if (block != prev_block) {
+            prev_block = block;
+            prev_slot = index.getValue(block);
+            in_run = false;
+        }
+        if (in_run) {
+            ++runs.back().length;
+        } else {
+            runs.push_back({static_cast<std::uint32_t>(i), 1, prev_slot, 0, block});
+            in_run = true;
+        }
+    }
 }
 
 void AtsdfIntegrator::ScanPass::assignLocalBlocks(std::size_t n_chunks, IntegrationStats& st) {
@@ -422,6 +470,7 @@ bool AtsdfIntegrator::ScanPass::bin(IntegrationStats& st) {
     const std::size_t n_chunks = (n_points + kPointChunk - 1) / kPointChunk;
     if (s_.runs.size() < n_chunks) s_.runs.resize(n_chunks);
     s_.chunk_drops.assign(n_chunks, {0, 0, 0});
+    if (config_.merge_divisions > 0) s_.point_cell.resize(n_points);
     classifyChunks(n_chunks);
     assignLocalBlocks(n_chunks, st);
     st.points_integrated = n_points - st.dropped_non_finite - st.dropped_at_origin - st.dropped_range;
@@ -546,20 +595,11 @@ std::uint32_t AtsdfIntegrator::ScanPass::gatherRays(const LocalBlock& lb, CellRa
         return lb.end;
     }
     CellRays& cells = *cells_or_null;
-    // Cell j = floor((p / voxel + 1/2) s) (voxel i covers [i - 1/2, i + 1/2)); with s = 1 or 2
-    // the product is exact, so the cells of a point lie in its voxel, and so in this block.
-    const int s = config_.merge_divisions;
-    const float s_f = static_cast<float>(s);
-    const int side = 8 * s;
-    const Coord bc = blocks_.blockCoord(lb.slot);
-    const Coord b0(bc.x() * side, bc.y() * side, bc.z() * side);
+    // Each point's cell in the block (MergeCell) came from phase 1 (classifyChunk).
     std::uint32_t end = lb.begin;
     for (std::uint32_t k = lb.begin; k < lb.end; ++k) {
         const Vec3f& p = points_W_[s_.order[k]];
-        const int cx = detail::floorToInt((p.x() * inv_vs_f_ + 0.5f) * s_f) - b0.x();
-        const int cy = detail::floorToInt((p.y() * inv_vs_f_ + 0.5f) * s_f) - b0.y();
-        const int cz = detail::floorToInt((p.z() * inv_vs_f_ + 0.5f) * s_f) - b0.z();
-        const std::size_t cell = static_cast<std::size_t>((cx * side + cy) * side + cz);
+        const std::size_t cell = s_.point_cell[s_.order[k]];
         std::int32_t& r = cells.ray[cell];
         if (r < 0) {
             r = static_cast<std::int32_t>(end - lb.begin);
