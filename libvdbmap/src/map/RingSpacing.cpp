@@ -2,7 +2,9 @@
 #include "vdbmap/map/RingSpacing.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <vector>
 
 namespace vdbmap {
 namespace {
@@ -15,6 +17,17 @@ int binOf(double sin_elev) {
 }
 
 double binCentre(int i) { return (i + 0.5) * 2.0 / kBins - 1.0; }
+
+/// The elevation of each bin's centre, asin(binCentre(i)): computed once (the table is 64 kB;
+/// 8192 arcsines per scan were most of fromElevations' time).
+const std::vector<double>& binElevations() {
+    static const std::vector<double> theta = [] {
+        std::vector<double> t(kBins);
+        for (int i = 0; i < kBins; ++i) t[static_cast<std::size_t>(i)] = std::asin(binCentre(i));
+        return t;
+    }();
+    return theta;
+}
 
 /// The widest run of bins one ring may cover: 0.3 deg near the horizon (~0.014 deg per bin);
 /// the closest rings of a VLS-128 are 0.11 deg apart, an HDL-64's 0.33 deg.
@@ -40,9 +53,10 @@ RingSpacing RingSpacing::fromElevations(std::vector<double> elevations_rad) {
     }
     // Each bin takes the gap of the ring nearest to it (rings are sorted: one sweep).
     rs.gap_rad_.resize(kBins);
+    const std::vector<double>& bin_theta = binElevations();
     std::size_t j = 0;
     for (int i = 0; i < kBins; ++i) {
-        const double theta = std::asin(binCentre(i));
+        const double theta = bin_theta[static_cast<std::size_t>(i)];
         while (j + 1 < k && std::abs(elevations_rad[j + 1] - theta) <= std::abs(elevations_rad[j] - theta)) ++j;
         rs.gap_rad_[static_cast<std::size_t>(i)] = gap[j];
     }
@@ -54,15 +68,29 @@ RingSpacing RingSpacing::estimate(const std::vector<Vec3f>& points_L, std::size_
     std::vector<std::uint32_t> count(kBins, 0);
     std::vector<double> sum(kBins, 0.0);
     stride = std::max<std::size_t>(stride, 1);
+    // Successive points mostly fall in the same bin (one ring): its count and sum stay in
+    // registers until the bin changes (the sum's additions in the same order).
+    std::size_t bin = 0;
+    std::uint32_t bin_count = 0;
+    double bin_sum = 0.0;
     for (std::size_t i = 0; i < points_L.size(); i += stride) {
         const Vec3f& p = points_L[i];
         const float r2 = p.squaredNorm();
         if (!(r2 > 1e-6f) || !std::isfinite(r2)) continue;
         const double s = p.z() / std::sqrt(static_cast<double>(r2));
-        const int b = binOf(s);
-        ++count[static_cast<std::size_t>(b)];
-        sum[static_cast<std::size_t>(b)] += s;
+        const std::size_t b = static_cast<std::size_t>(binOf(s));
+        if (b != bin) {
+            count[bin] = bin_count;
+            sum[bin] = bin_sum;
+            bin = b;
+            bin_count = count[b];
+            bin_sum = sum[b];
+        }
+        ++bin_count;
+        bin_sum += s;
     }
+    count[bin] = bin_count;
+    sum[bin] = bin_sum;
     // Phase 2: rings = runs of occupied bins (a single empty bin does not end a run); a bin
     // holding a lone point between rings (a mixed pixel, a reflection) does not count. A run
     // wider than kMaxRingBins is no ring: a sensor whose beams do not leave the origin (a
