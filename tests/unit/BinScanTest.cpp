@@ -3,6 +3,7 @@
 #include <sys/stat.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <string>
 #include <thread>
@@ -114,4 +115,38 @@ TEST_CASE("Scans read the same from a regular file, an empty file and a pipe", "
     for (std::size_t i = 0; i < whole.size(); i += 997) CHECK(piped.points[i] == whole.points[i]);
     CHECK(piped.points.back() == whole.points.back());
     CHECK(piped.intensity.back() == whole.intensity.back());
+}
+
+TEST_CASE("readBin into a reused cloud: the scan read, whatever the cloud held", "[io][bin]") {
+    // A reader of many scans reads each one into the storage of the one before. Every point
+    // must come from this file (the read goes in pieces of 4096 points: 124668 is not a
+    // multiple), a smaller scan must not keep the bigger one's tail, and a failed read must not
+    // leave a half-read scan behind.
+    test::TempDir dir;
+    const std::string bytes = test::readBytes(kScans / "000000.bin");
+    PointCloud small;
+    for (int i = 0; i < 5000; ++i) {
+        small.points.emplace_back(0.5f * i, 1.0f - i, 0.25f * i);
+        small.intensity.push_back(0.0001f * i);
+    }
+    writeBin(dir / "small.bin", small);
+    PointCloud reused;
+    readBin(kScans / "000001.bin", reused);  // the bigger scan first
+    REQUIRE(reused.size() > small.size());
+    readBin(dir / "small.bin", reused);
+    CHECK(reused.points == small.points);
+    CHECK(reused.intensity == small.intensity);
+    readBin(kScans / "000000.bin", reused);
+    REQUIRE(reused.size() == bytes.size() / 16);
+    for (std::size_t i = 0; i < reused.size(); ++i) {
+        float v[4];
+        std::memcpy(v, bytes.data() + 16 * i, 16);
+        REQUIRE(reused.points[i] == Vec3f(v[0], v[1], v[2]));
+        REQUIRE(reused.intensity[i] == v[3]);
+    }
+    test::writeText(dir / "cut.bin", bytes.substr(0, 16 * 5000 + 3));
+    CHECK_THAT(test::ioErrorMessage([&] { readBin(dir / "cut.bin", reused); }),
+               Contains("cut.bin") && Contains("80003"));
+    CHECK(reused.empty());
+    CHECK(reused.intensity.empty());
 }

@@ -77,9 +77,14 @@ std::shared_ptr<Dataset> Dataset::open(const DatasetConfig& config,
 }
 
 PointCloud Dataset::loadScan(std::size_t i, ScanReadStats* stats) const {
-    PointCloud cloud = readPointCloud(frame(i).scan_path);
-    filterScan(cloud, config_.min_range_m, config_.max_range_m, stats);
+    PointCloud cloud;
+    loadScan(i, cloud, stats);
     return cloud;
+}
+
+void Dataset::loadScan(std::size_t i, PointCloud& cloud, ScanReadStats* stats) const {
+    readPointCloud(frame(i).scan_path, cloud);
+    filterScan(cloud, config_.min_range_m, config_.max_range_m, stats);
 }
 
 Isometry3d Dataset::T_W_C(std::size_t i, std::size_t cam) const {

@@ -10,7 +10,7 @@
 
 namespace vdbmap::detail {
 
-std::string readWholeFile(const std::filesystem::path& path) {
+OpenFile openForReading(const std::filesystem::path& path) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) {
         throw IoError("file not found: " + path.string());
@@ -18,17 +18,31 @@ std::string readWholeFile(const std::filesystem::path& path) {
     if (std::filesystem::is_directory(path, ec)) {
         throw IoError("expected a file, found a folder: " + path.string());
     }
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
+    OpenFile file;
+    file.in.open(path, std::ios::binary);
+    if (!file.in) {
         throw IoError("cannot open " + path.string() + ": " + std::strerror(errno));
     }
+    // Other files (a pipe, /proc) have no size.
+    if (std::filesystem::is_regular_file(path, ec)) {
+        const std::uintmax_t size = std::filesystem::file_size(path, ec);
+        if (!ec) file.size_bytes = size;
+    }
+    return file;
+}
+
+std::string readWholeFile(const std::filesystem::path& path) {
+    OpenFile file = openForReading(path);
+    return readAll(file, path);
+}
+
+std::string readAll(OpenFile& file, const std::filesystem::path& path) {
+    std::ifstream& in = file.in;
     // A regular file: one read of its size (a 2 MB scan through a growing string buffer cost
-    // several copies of it). Other files (a pipe, /proc) have no size: read them as a stream.
-    const bool regular = std::filesystem::is_regular_file(path, ec);
-    const std::uintmax_t size = regular ? std::filesystem::file_size(path, ec) : 0;
-    if (regular && !ec && size > 0) {
-        std::string bytes(static_cast<std::size_t>(size), '\0');
-        in.read(bytes.data(), static_cast<std::streamsize>(size));
+    // several copies of it); anything else as a stream.
+    if (file.size_bytes > 0) {
+        std::string bytes(static_cast<std::size_t>(file.size_bytes), '\0');
+        in.read(bytes.data(), static_cast<std::streamsize>(file.size_bytes));
         if (in.bad()) {
             throw IoError("read error in " + path.string());
         }

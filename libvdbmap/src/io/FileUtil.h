@@ -13,6 +13,16 @@ namespace vdbmap::detail {
 /// Whole file as bytes. Throws IoError naming the file if it is missing or unreadable.
 std::string readWholeFile(const std::filesystem::path& path);
 
+/// A file opened for binary reading with readWholeFile's checks and errors. `size_bytes` is
+/// its size if it is a regular file with a non-zero size (else 0: read it as a stream).
+struct OpenFile {
+    std::ifstream in;
+    std::uintmax_t size_bytes = 0;
+};
+OpenFile openForReading(const std::filesystem::path& path);
+/// The rest of an open file (readWholeFile's reading). `path` names it in errors.
+std::string readAll(OpenFile& file, const std::filesystem::path& path);
+
 /// Splits on spaces, tabs and carriage returns (CRLF files).
 std::vector<std::string> splitWhitespace(std::string_view text);
 

@@ -17,10 +17,11 @@ struct LoadedScan {
     ScanReadStats stats;
 };
 
-LoadedScan load(const Dataset& dataset, std::size_t i) {
-    LoadedScan s;
-    s.cloud = dataset.loadScan(i, &s.stats);
-    return s;
+/// Scan i, read into `reuse`'s storage (the scan before last: no allocation per scan).
+LoadedScan load(const Dataset& dataset, std::size_t i, LoadedScan reuse) {
+    reuse.stats = ScanReadStats{};
+    dataset.loadScan(i, reuse.cloud, &reuse.stats);
+    return reuse;
 }
 
 void add(ScanReadStats& total, const ScanReadStats& s) {
@@ -40,18 +41,21 @@ DatasetIntegration integrateDataset(const Dataset& dataset, AtsdfIntegrator& int
     const std::size_t n = frames.size();
     for (const std::size_t f : frames) (void)dataset.frame(f);  // out_of_range before reading
     std::future<LoadedScan> next;
-    if (read_ahead && n > 0) next = std::async(std::launch::async, load, std::cref(dataset), frames[0]);
+    if (read_ahead && n > 0)
+        next = std::async(std::launch::async, load, std::cref(dataset), frames[0], LoadedScan{});
+    LoadedScan scan;  // the scan being integrated
     for (std::size_t k = 0; k < n; ++k) {
         const std::size_t i = frames[k];
-        LoadedScan scan;
         if (read_ahead) {
+            LoadedScan spare = std::move(scan);  // the last scan is done: the next read reuses it
             Timer wait;
             scan = next.get();
             out.read_wait_s += wait.elapsedSeconds();
-            if (k + 1 < n) next = std::async(std::launch::async, load, std::cref(dataset), frames[k + 1]);
+            if (k + 1 < n)
+                next = std::async(std::launch::async, load, std::cref(dataset), frames[k + 1], std::move(spare));
         } else {
             Timer wait;
-            scan = load(dataset, i);
+            scan = load(dataset, i, std::move(scan));
             out.read_wait_s += wait.elapsedSeconds();
         }
         add(out.read, scan.stats);

@@ -109,6 +109,8 @@ public:
     /// outside [min_range_m, max_range_m] (counted in `stats`). Throws IoError (truncated .bin,
     /// corrupt PCD header, ...).
     PointCloud loadScan(std::size_t i, ScanReadStats* stats = nullptr) const;
+    /// Same into `cloud`, reusing its storage (a .bin scan is read without allocating).
+    void loadScan(std::size_t i, PointCloud& cloud, ScanReadStats* stats = nullptr) const;
 
     /// Camera pose T_W_C = T_W_L * T_C_L^-1 of camera `cam` at frame i.
     Isometry3d T_W_C(std::size_t i, std::size_t cam) const;

@@ -11,6 +11,9 @@ namespace vdbmap {
 /// sensor frame. Throws IoError naming the file if it is missing or its size is not a multiple
 /// of 16 bytes (a truncated file). An empty file is an empty cloud.
 PointCloud readBin(const std::filesystem::path& path);
+/// Same into `cloud`, reusing its storage (a reader of many scans allocates once). On a throw
+/// `cloud` holds no scan.
+void readBin(const std::filesystem::path& path, PointCloud& cloud);
 
 /// Reads a PCD file (v0.5-0.7 header: VERSION FIELDS SIZE TYPE COUNT WIDTH HEIGHT VIEWPOINT
 /// POINTS DATA) with DATA ascii, binary or binary_compressed (LZF, field-major). Fields x y z
@@ -28,6 +31,8 @@ PointCloud readPlyPoints(const std::filesystem::path& path);
 /// Dispatches on the extension (.bin, .pcd, .ply; case-insensitive). Throws IoError for any
 /// other extension.
 PointCloud readPointCloud(const std::filesystem::path& path);
+/// Same into `cloud` (readBin reuses its storage).
+void readPointCloud(const std::filesystem::path& path, PointCloud& cloud);
 
 /// True if `path` has an extension readPointCloud understands.
 bool isPointCloudFile(const std::filesystem::path& path);

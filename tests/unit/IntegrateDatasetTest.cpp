@@ -1,0 +1,121 @@
+// SPDX-License-Identifier: Apache-2.0
+// integrateDataset: the scans of a dataset into the integrator, each read while the one before
+// is integrated (into the storage of the scan before that).
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <filesystem>
+#include <utility>
+#include <vector>
+
+#include "unit/IoTestUtil.h"
+#include "vdbmap/io/Dataset.h"
+#include "vdbmap/map/AtsdfIntegrator.h"
+#include "vdbmap/map/IntegrateDataset.h"
+#include "vdbmap/map/VoxelMap.h"
+#include "vdbmap/sim/SimSequence.h"
+
+using namespace vdbmap;
+using openvdb::Coord;
+
+namespace {
+
+std::vector<std::pair<Coord, std::uint32_t>> voxelsOf(const VoxelMap& map) {
+    std::vector<std::pair<Coord, std::uint32_t>> out;
+    map.forEachVoxel([&](const Coord& c, std::uint32_t v) { out.emplace_back(c, v); });
+    std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    return out;
+}
+
+struct Run {
+    std::vector<std::pair<Coord, std::uint32_t>> voxels;
+    IntegrationStats totals;
+    DatasetIntegration read;
+    std::vector<std::size_t> order;  ///< frames in the order on_scan saw them
+};
+
+Run integrate(const Dataset& dataset, const std::vector<std::size_t>& frames, bool read_ahead) {
+    VoxelMap map(0.1, 0.3f);
+    AtsdfConfig config;
+    config.truncation.min_m = 0.1;
+    config.truncation.max_m = 0.3;
+    config.merge_divisions = 1;
+    AtsdfIntegrator integrator(map, config);
+    Run run;
+    run.read = integrateDataset(
+        dataset, integrator, frames, [&](std::size_t f) { run.order.push_back(f); }, read_ahead);
+    run.totals = integrator.totals();
+    integrator.finalize();
+    run.voxels = voxelsOf(map);
+    return run;
+}
+
+}  // namespace
+
+TEST_CASE("integrateDataset reads ahead into reused storage and maps as reading in turn does",
+          "[tsdf][io]") {
+    // Scans of different sizes, in an order that goes back and forth: a scan read into the
+    // storage of a bigger one must not keep its tail, and the map must be the one of reading
+    // each scan in turn, voxel for voxel.
+    test::TempDir dir;
+    SimOptions o;
+    o.scene = "street";
+    o.frames = 5;
+    o.size_m = 30;
+    o.seed = 5;
+    o.gt_views = 0;
+    o.images = false;
+    o.quiet = true;
+    REQUIRE(writeSimSequence(o, dir / "street").frames == 5);
+    DatasetConfig dc;
+    dc.path = (dir / "street").string();
+    dc.max_range_m = 25.0;
+    const auto dataset = Dataset::open(dc);
+    REQUIRE(dataset->numFrames() == 5);
+    const std::vector<std::size_t> frames{4, 0, 3, 1, 2, 0};
+    std::size_t points = 0;
+    for (std::size_t f : frames) points += dataset->loadScan(f).size();
+
+    const Run ahead = integrate(*dataset, frames, true);
+    const Run in_turn = integrate(*dataset, frames, false);
+    CHECK(ahead.order == frames);
+    CHECK(in_turn.order == frames);
+    CHECK(ahead.totals.scans == frames.size());
+    CHECK(ahead.totals.points_in == points);
+    CHECK(in_turn.totals.points_in == points);
+    CHECK(ahead.read.read.points_read == in_turn.read.read.points_read);
+    CHECK(ahead.read.read.dropped_range == in_turn.read.read.dropped_range);
+    CHECK(ahead.read.read.dropped_range > 0);  // max_range_m cut some points
+    CHECK(ahead.totals.voxel_updates == in_turn.totals.voxel_updates);
+    REQUIRE(ahead.voxels.size() > 10000);
+    CHECK(ahead.voxels == in_turn.voxels);
+}
+
+TEST_CASE("integrateDataset rethrows a read error after the scans before it", "[tsdf][io]") {
+    test::TempDir dir;
+    SimOptions o;
+    o.scene = "street";
+    o.frames = 3;
+    o.size_m = 20;
+    o.seed = 2;
+    o.gt_views = 0;
+    o.images = false;
+    o.quiet = true;
+    writeSimSequence(o, dir / "street");
+    const std::filesystem::path scan = dir / "street" / "velodyne" / "000001.bin";
+    REQUIRE(std::filesystem::exists(scan));
+    std::filesystem::resize_file(scan, std::filesystem::file_size(scan) - 5);
+    DatasetConfig dc;
+    dc.path = (dir / "street").string();
+    const auto dataset = Dataset::open(dc);
+    for (const bool read_ahead : {true, false}) {
+        VoxelMap map(0.1, 0.3f);
+        AtsdfIntegrator integrator(map, AtsdfConfig{});
+        std::vector<std::size_t> seen;
+        CHECK_THROWS_AS(integrateDataset(
+                            *dataset, integrator, {0, 1, 2},
+                            [&](std::size_t f) { seen.push_back(f); }, read_ahead),
+                        IoError);
+        CHECK(seen == std::vector<std::size_t>{0});
+    }
+}
