@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <sstream>
+#include <utility>
 
 #include "map/CellColouring.h"
 #include "map/RayTraversal.h"
@@ -156,6 +157,7 @@ struct AtsdfIntegrator::Scratch {
     std::vector<RayPlan> plan;
     std::vector<std::uint64_t> leaf_bits;     ///< LeafNeighbourhood bits per local block
     std::vector<std::uint64_t> missing_bits;  ///< those of leaves not allocated yet
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed_blocks;  ///< (CellKey::packed, block)
     std::vector<std::uint32_t> by_cell;
     std::vector<std::uint32_t> cell_begin;
     std::vector<std::size_t> updates_per_cell;
@@ -776,18 +778,21 @@ void AtsdfIntegrator::ScanPass::integrate(IntegrationStats& st) {
     std::vector<LocalBlock>& local = s_.local;
     const int cell_blocks = 2 * hood_.radius;
     for (LocalBlock& lb : local) lb.cell = detail::cellKeyOf(blocks_.blockCoord(lb.slot), cell_blocks);
+    // The blocks by (cell key, block): sorted as plain numbers, not through `local`.
+    std::vector<std::pair<std::uint64_t, std::uint32_t>>& keyed = s_.keyed_blocks;
+    keyed.resize(local.size());
+    for (std::size_t b = 0; b < local.size(); ++b)
+        keyed[b] = {local[b].cell.packed(), static_cast<std::uint32_t>(b)};
+    std::sort(keyed.begin(), keyed.end());
     std::vector<std::uint32_t>& by_cell = s_.by_cell;
     by_cell.resize(local.size());
-    for (std::size_t b = 0; b < local.size(); ++b) by_cell[b] = static_cast<std::uint32_t>(b);
-    std::sort(by_cell.begin(), by_cell.end(), [&](std::uint32_t a, std::uint32_t b) {
-        return local[a].cell != local[b].cell ? local[a].cell < local[b].cell : a < b;
-    });
     // Cell ranges within by_cell.
     std::vector<std::uint32_t>& cell_begin = s_.cell_begin;
     cell_begin.clear();
-    for (std::size_t i = 0; i < by_cell.size(); ++i)
-        if (i == 0 || local[by_cell[i]].cell != local[by_cell[i - 1]].cell)
-            cell_begin.push_back(static_cast<std::uint32_t>(i));
+    for (std::size_t i = 0; i < keyed.size(); ++i) {
+        by_cell[i] = keyed[i].second;
+        if (i == 0 || keyed[i].first != keyed[i - 1].first) cell_begin.push_back(static_cast<std::uint32_t>(i));
+    }
     cell_begin.push_back(static_cast<std::uint32_t>(by_cell.size()));
 
     TsdfTree& tsdf_tree = map_.workingTsdf()->tree();

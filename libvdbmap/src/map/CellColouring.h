@@ -26,6 +26,8 @@ struct CellKey {
     bool operator<(const CellKey& o) const {
         return colour != o.colour ? colour < o.colour : cell < o.cell;
     }
+    /// The key as one number (colour above the cell's 60 bits), in operator<'s order.
+    std::uint64_t packed() const { return (static_cast<std::uint64_t>(colour) << 60) | cell; }
 };
 
 inline CellKey cellKeyOf(const openvdb::Coord& block, int cell_blocks) {

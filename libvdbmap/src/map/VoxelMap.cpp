@@ -148,9 +148,10 @@ std::size_t VoxelMap::retireWorking(std::uint32_t min_stamp) {
                               [&](const TsdfLeaf* l) { return l->transientData() >= min_stamp; }),
                cold.end());
     if (cold.empty()) return 0;
-    // Parallel: encode, then switch the dense leaf's voxels off. Serial: store. Parallel again:
+    // Parallel: encode, then switch the dense leaf's voxels off. Serial: store, then
     // pruneInactive deletes the dense leaves without active voxels (the retired ones, and
-    // allocated leaves no update reached).
+    // allocated leaves no update reached). Threaded, the prune of a working tree of a few
+    // thousand leaves took 2.5 times as long on 2 threads as serial (0.1 against 0.04 ms).
     std::vector<CompactTsdf::Slot> slots(cold.size());
     std::vector<CompactTsdf::Mask> masks(cold.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cold.size(), 64),
@@ -163,7 +164,7 @@ std::size_t VoxelMap::retireWorking(std::uint32_t min_stamp) {
     });
     for (std::size_t i = 0; i < cold.size(); ++i)
         compact_->insert(cold[i]->origin(), masks[i], std::move(slots[i]));
-    openvdb::tools::pruneInactive(tree, /*threaded=*/true);
+    openvdb::tools::pruneInactive(tree, /*threaded=*/false);
     return cold.size();
 }
 
