@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <random>
 #include <string>
 #include <thread>
 
@@ -149,4 +150,49 @@ TEST_CASE("readBin into a reused cloud: the scan read, whatever the cloud held",
                Contains("cut.bin") && Contains("80003"));
     CHECK(reused.empty());
     CHECK(reused.intensity.empty());
+}
+
+TEST_CASE("filterScan keeps exactly the points a double-precision range check keeps", "[io][bin]") {
+    // filterScan decides most points in float and only those near a bound in double: its result
+    // must be the plain double check's, also for points within float rounding of a bound, at
+    // the bound itself, tiny, huge and non-finite.
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+    const double min_m = 2.5, max_m = 80.0;
+    PointCloud cloud;
+    for (int i = 0; i < 20000; ++i) {
+        Vec3f d(unit(rng), unit(rng), unit(rng));
+        if (d.norm() < 1e-3f) continue;
+        d.normalize();
+        const double target = (i % 4 == 0) ? min_m : (i % 4 == 1) ? max_m : 1.0 + 100.0 * (unit(rng) + 1.0f);
+        // Around the bound: a few float steps either side of it.
+        const float r = std::nextafter(static_cast<float>(target), (i % 2) ? 1e9f : 0.0f) *
+                        (1.0f + static_cast<float>(i % 7 - 3) * 1e-7f);
+        cloud.points.push_back(d * r);
+        cloud.intensity.push_back(static_cast<float>(i));
+    }
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    for (const Vec3f& p : {Vec3f(0, 0, 0), Vec3f(1e-25f, 0, 0), Vec3f(3e38f, 3e38f, 0),
+                           Vec3f(nan, 1, 1), Vec3f(static_cast<float>(min_m), 0, 0),
+                           Vec3f(0, static_cast<float>(max_m), 0)}) {
+        cloud.points.push_back(p);
+        cloud.intensity.push_back(-1.0f);
+    }
+    std::vector<Vec3f> expected;
+    std::vector<float> expected_intensity;
+    for (std::size_t i = 0; i < cloud.size(); ++i) {
+        const Vec3f& p = cloud.points[i];
+        const double r2 = p.cast<double>().squaredNorm();
+        if (p.allFinite() && r2 >= min_m * min_m && r2 <= max_m * max_m) {
+            expected.push_back(p);
+            expected_intensity.push_back(cloud.intensity[i]);
+        }
+    }
+    REQUIRE(expected.size() > 1000);
+    REQUIRE(expected.size() < cloud.size() - 1000);  // both bounds cut
+    ScanReadStats stats;
+    filterScan(cloud, min_m, max_m, &stats);
+    CHECK(cloud.points == expected);
+    CHECK(cloud.intensity == expected_intensity);
+    CHECK(stats.dropped_non_finite == 1);
 }

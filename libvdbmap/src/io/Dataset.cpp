@@ -19,20 +19,31 @@ void filterScan(PointCloud& cloud, double min_range_m, double max_range_m, ScanR
     const bool has_intensity = cloud.intensity.size() == cloud.points.size();
     const double min2 = min_range_m * min_range_m;
     const double max2 = max_range_m * max_range_m;
+    // The squared range in float is within 1e-6 of the double one (three products and two sums,
+    // each rounded to 2^-24; above 1e-30 m^2, far from float's underflow): a point further than
+    // 1e-5 inside the bounds is kept without the double check, which decides only the points
+    // near a bound.
+    const float keep_min2 = std::max(static_cast<float>(min2 * (1.0 + 1e-5)), 1e-30f);
+    const float keep_max2 = static_cast<float>(std::min(max2 * (1.0 - 1e-5), 1e30));
     std::size_t kept = 0, non_finite = 0, out_of_range = 0;
     for (std::size_t i = 0; i < cloud.points.size(); ++i) {
         const Vec3f& p = cloud.points[i];
-        if (!p.allFinite()) {
-            ++non_finite;
-            continue;
+        const float r2f = p.squaredNorm();
+        if (!(r2f > keep_min2 && r2f < keep_max2)) {  // near a bound, outside, or not finite
+            if (!p.allFinite()) {
+                ++non_finite;
+                continue;
+            }
+            const double r2 = p.cast<double>().squaredNorm();
+            if (r2 < min2 || r2 > max2) {
+                ++out_of_range;
+                continue;
+            }
         }
-        const double r2 = p.cast<double>().squaredNorm();
-        if (r2 < min2 || r2 > max2) {
-            ++out_of_range;
-            continue;
+        if (kept != i) {
+            cloud.points[kept] = p;
+            if (has_intensity) cloud.intensity[kept] = cloud.intensity[i];
         }
-        cloud.points[kept] = p;
-        if (has_intensity) cloud.intensity[kept] = cloud.intensity[i];
         ++kept;
     }
     if (stats != nullptr) {
