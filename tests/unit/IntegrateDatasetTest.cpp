@@ -2,6 +2,7 @@
 // integrateDataset: the scans of a dataset into the integrator, each read while the one before
 // is integrated (into the storage of the scan before that).
 #include <catch2/catch.hpp>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -76,8 +77,15 @@ TEST_CASE("integrateDataset reads ahead into reused storage and maps as reading 
     std::size_t points = 0;
     for (std::size_t f : frames) points += dataset->loadScan(f).size();
 
-    const Run ahead = integrate(*dataset, frames, true);
-    const Run in_turn = integrate(*dataset, frames, false);
+    // One TBB thread: the read has a thread of its own; two: it is a task of theirs.
+    const int threads = GENERATE(1, 2);
+    INFO(threads << " TBB threads");
+    tbb::task_arena arena(threads);
+    Run ahead, in_turn;
+    arena.execute([&] {
+        ahead = integrate(*dataset, frames, true);
+        in_turn = integrate(*dataset, frames, false);
+    });
     CHECK(ahead.order == frames);
     CHECK(in_turn.order == frames);
     CHECK(ahead.totals.scans == frames.size());
@@ -108,14 +116,20 @@ TEST_CASE("integrateDataset rethrows a read error after the scans before it", "[
     DatasetConfig dc;
     dc.path = (dir / "street").string();
     const auto dataset = Dataset::open(dc);
-    for (const bool read_ahead : {true, false}) {
-        VoxelMap map(0.1, 0.3f);
-        AtsdfIntegrator integrator(map, AtsdfConfig{});
-        std::vector<std::size_t> seen;
-        CHECK_THROWS_AS(integrateDataset(
-                            *dataset, integrator, {0, 1, 2},
-                            [&](std::size_t f) { seen.push_back(f); }, read_ahead),
-                        IoError);
-        CHECK(seen == std::vector<std::size_t>{0});
+    for (const int threads : {1, 2}) {
+        tbb::task_arena arena(threads);
+        for (const bool read_ahead : {true, false}) {
+            INFO(threads << " TBB threads, read ahead " << read_ahead);
+            VoxelMap map(0.1, 0.3f);
+            AtsdfIntegrator integrator(map, AtsdfConfig{});
+            std::vector<std::size_t> seen;
+            arena.execute([&] {
+                CHECK_THROWS_AS(integrateDataset(
+                                    *dataset, integrator, {0, 1, 2},
+                                    [&](std::size_t f) { seen.push_back(f); }, read_ahead),
+                                IoError);
+            });
+            CHECK(seen == std::vector<std::size_t>{0});
+        }
     }
 }

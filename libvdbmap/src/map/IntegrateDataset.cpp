@@ -1,6 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "vdbmap/map/IntegrateDataset.h"
 
+#include <tbb/global_control.h>
+#include <tbb/task_arena.h>
+#include <tbb/task_group.h>
+
+#include <algorithm>
 #include <future>
 #include <numeric>
 #include <utility>
@@ -24,6 +29,51 @@ LoadedScan load(const Dataset& dataset, std::size_t i, LoadedScan reuse) {
     return reuse;
 }
 
+/// The read of the next scan while this one is integrated. With more than one integrating
+/// thread it is one more task of theirs (tbb::task_group): a thread takes it when it runs out of
+/// work, in the serial parts of a scan, and wait() runs it itself if none did. A thread of its
+/// own (std::async) would preempt an integrating thread instead: on 2 threads the stage took
+/// 3 % longer that way (docs/benchmarks/integration.md). With one integrating thread it does
+/// get a thread of its own, so that reading still overlaps integration.
+class ReadAhead {
+public:
+    explicit ReadAhead(const Dataset& dataset) : dataset_(dataset), as_task_(threads() > 1) {}
+    ~ReadAhead() {
+        if (as_task_) group_.wait();  // no task left running (an exception unwinds the loop)
+    }
+    ReadAhead(const ReadAhead&) = delete;
+    ReadAhead& operator=(const ReadAhead&) = delete;
+
+    /// Starts reading `frame` into `reuse`'s storage.
+    void start(std::size_t frame, LoadedScan reuse) {
+        if (as_task_) {
+            slot_ = std::move(reuse);
+            group_.run([this, frame] { slot_ = load(dataset_, frame, std::move(slot_)); });
+        } else {
+            thread_ = std::async(std::launch::async, load, std::cref(dataset_), frame, std::move(reuse));
+        }
+    }
+    /// The scan started last; rethrows its read error.
+    LoadedScan take() {
+        if (!as_task_) return thread_.get();
+        group_.wait();
+        return std::move(slot_);
+    }
+
+private:
+    /// The TBB threads that integrate: this arena's, within the process's limit (--threads).
+    static std::size_t threads() {
+        return std::min(static_cast<std::size_t>(tbb::this_task_arena::max_concurrency()),
+                        tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
+    }
+
+    const Dataset& dataset_;
+    const bool as_task_;
+    tbb::task_group group_;
+    LoadedScan slot_;  ///< the task's scan
+    std::future<LoadedScan> thread_;
+};
+
 void add(ScanReadStats& total, const ScanReadStats& s) {
     total.points_read += s.points_read;
     total.dropped_non_finite += s.dropped_non_finite;
@@ -40,19 +90,17 @@ DatasetIntegration integrateDataset(const Dataset& dataset, AtsdfIntegrator& int
     Timer total;
     const std::size_t n = frames.size();
     for (const std::size_t f : frames) (void)dataset.frame(f);  // out_of_range before reading
-    std::future<LoadedScan> next;
-    if (read_ahead && n > 0)
-        next = std::async(std::launch::async, load, std::cref(dataset), frames[0], LoadedScan{});
+    ReadAhead next(dataset);
+    if (read_ahead && n > 0) next.start(frames[0], LoadedScan{});
     LoadedScan scan;  // the scan being integrated
     for (std::size_t k = 0; k < n; ++k) {
         const std::size_t i = frames[k];
         if (read_ahead) {
             LoadedScan spare = std::move(scan);  // the last scan is done: the next read reuses it
             Timer wait;
-            scan = next.get();
+            scan = next.take();
             out.read_wait_s += wait.elapsedSeconds();
-            if (k + 1 < n)
-                next = std::async(std::launch::async, load, std::cref(dataset), frames[k + 1], std::move(spare));
+            if (k + 1 < n) next.start(frames[k + 1], std::move(spare));
         } else {
             Timer wait;
             scan = load(dataset, i, std::move(scan));
