@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// integrateDataset: the scans of a dataset into the integrator, each read while the one before
-// is integrated (into the storage of the scan before that).
+// integrateDataset: the scans of a dataset into the integrator, each read (and its rings
+// estimated) while the one before is integrated, into the storage of the scan before that.
 #include <catch2/catch.hpp>
 #include <tbb/task_arena.h>
 
@@ -35,16 +35,29 @@ struct Run {
     std::vector<std::size_t> order;  ///< frames in the order on_scan saw them
 };
 
-Run integrate(const Dataset& dataset, const std::vector<std::size_t>& frames, bool read_ahead) {
+/// With `read_ahead` unset and `by_hand`, each scan goes through integrateScan(points_L, T_W_L)
+/// (the integrator estimates the rings; integrateDataset's reader does it otherwise).
+Run integrate(const Dataset& dataset, const std::vector<std::size_t>& frames, bool read_ahead,
+              bool by_hand = false) {
     VoxelMap map(0.1, 0.3f);
     AtsdfConfig config;
     config.truncation.min_m = 0.1;
     config.truncation.max_m = 0.3;
+    config.truncation.grazing_band_to_next_ring = true;
     config.merge_divisions = 1;
     AtsdfIntegrator integrator(map, config);
+    REQUIRE(integrator.usesRings());
     Run run;
-    run.read = integrateDataset(
-        dataset, integrator, frames, [&](std::size_t f) { run.order.push_back(f); }, read_ahead);
+    if (by_hand) {
+        for (std::size_t f : frames) {
+            const PointCloud scan = dataset.loadScan(f);
+            integrator.integrateScan(scan.points, dataset.frame(f).T_W_L);
+            run.order.push_back(f);
+        }
+    } else {
+        run.read = integrateDataset(
+            dataset, integrator, frames, [&](std::size_t f) { run.order.push_back(f); }, read_ahead);
+    }
     run.totals = integrator.totals();
     integrator.finalize();
     run.voxels = voxelsOf(map);
@@ -81,10 +94,11 @@ TEST_CASE("integrateDataset reads ahead into reused storage and maps as reading 
     const int threads = GENERATE(1, 2);
     INFO(threads << " TBB threads");
     tbb::task_arena arena(threads);
-    Run ahead, in_turn;
+    Run ahead, in_turn, by_hand;
     arena.execute([&] {
         ahead = integrate(*dataset, frames, true);
         in_turn = integrate(*dataset, frames, false);
+        by_hand = integrate(*dataset, frames, false, true);
     });
     CHECK(ahead.order == frames);
     CHECK(in_turn.order == frames);
@@ -97,6 +111,7 @@ TEST_CASE("integrateDataset reads ahead into reused storage and maps as reading 
     CHECK(ahead.totals.voxel_updates == in_turn.totals.voxel_updates);
     REQUIRE(ahead.voxels.size() > 10000);
     CHECK(ahead.voxels == in_turn.voxels);
+    CHECK(ahead.voxels == by_hand.voxels);  // the reader's rings are the integrator's
 }
 
 TEST_CASE("integrateDataset rethrows a read error after the scans before it", "[tsdf][io]") {

@@ -239,8 +239,18 @@ AtsdfIntegrator::AtsdfIntegrator(VoxelMap& map, const AtsdfConfig& config)
 
 AtsdfIntegrator::~AtsdfIntegrator() = default;
 
+bool AtsdfIntegrator::usesRings() const {
+    const TruncationParams& tp = config_.truncation;
+    return tp.mode == TruncationMode::Adaptive && tp.grazing_band_to_next_ring;
+}
+
 IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points_L,
                                                 const Isometry3d& T_W_L) {
+    return integrateScan(points_L, T_W_L, usesRings() ? RingSpacing::estimate(points_L) : RingSpacing{});
+}
+
+IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points_L,
+                                                const Isometry3d& T_W_L, const RingSpacing& rings) {
     std::vector<Vec3f>& points_W = scratch_->points_W;
     points_W.resize(points_L.size());
     const Eigen::Isometry3f T = T_W_L.cast<float>();
@@ -249,11 +259,9 @@ IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points
                           for (std::size_t i = r.begin(); i < r.end(); ++i)
                               points_W[i] = T * points_L[i];
                       });
-    const TruncationParams& tp = config_.truncation;
-    scratch_->use_rings = tp.mode == TruncationMode::Adaptive && tp.grazing_band_to_next_ring;
+    scratch_->use_rings = usesRings() && rings.valid();
     if (scratch_->use_rings) {
-        scratch_->rings = RingSpacing::estimate(points_L);
-        scratch_->use_rings = scratch_->rings.valid();
+        scratch_->rings = rings;
         scratch_->up_W = T.linear() * Vec3f::UnitZ();
     }
     return integrateInWorld(points_W, T_W_L.translation());

@@ -20,12 +20,15 @@ namespace {
 struct LoadedScan {
     PointCloud cloud;
     ScanReadStats stats;
+    RingSpacing rings;  ///< estimated by the reader if the integrator uses them
 };
 
-/// Scan i, read into `reuse`'s storage (the scan before last: no allocation per scan).
-LoadedScan load(const Dataset& dataset, std::size_t i, LoadedScan reuse) {
+/// Scan i, read into `reuse`'s storage (the scan before last: no allocation per scan), and its
+/// rings if `rings` (the reader's work rather than the integrating threads').
+LoadedScan load(const Dataset& dataset, std::size_t i, bool rings, LoadedScan reuse) {
     reuse.stats = ScanReadStats{};
     dataset.loadScan(i, reuse.cloud, &reuse.stats);
+    reuse.rings = rings ? RingSpacing::estimate(reuse.cloud.points) : RingSpacing{};
     return reuse;
 }
 
@@ -37,7 +40,8 @@ LoadedScan load(const Dataset& dataset, std::size_t i, LoadedScan reuse) {
 /// get a thread of its own, so that reading still overlaps integration.
 class ReadAhead {
 public:
-    explicit ReadAhead(const Dataset& dataset) : dataset_(dataset), as_task_(threads() > 1) {}
+    ReadAhead(const Dataset& dataset, bool rings)
+        : dataset_(dataset), rings_(rings), as_task_(threads() > 1) {}
     ~ReadAhead() {
         if (as_task_) group_.wait();  // no task left running (an exception unwinds the loop)
     }
@@ -48,9 +52,9 @@ public:
     void start(std::size_t frame, LoadedScan reuse) {
         if (as_task_) {
             slot_ = std::move(reuse);
-            group_.run([this, frame] { slot_ = load(dataset_, frame, std::move(slot_)); });
+            group_.run([this, frame] { slot_ = load(dataset_, frame, rings_, std::move(slot_)); });
         } else {
-            thread_ = std::async(std::launch::async, load, std::cref(dataset_), frame, std::move(reuse));
+            thread_ = std::async(std::launch::async, load, std::cref(dataset_), frame, rings_, std::move(reuse));
         }
     }
     /// The scan started last; rethrows its read error.
@@ -68,6 +72,7 @@ private:
     }
 
     const Dataset& dataset_;
+    const bool rings_;
     const bool as_task_;
     tbb::task_group group_;
     LoadedScan slot_;  ///< the task's scan
@@ -90,7 +95,8 @@ DatasetIntegration integrateDataset(const Dataset& dataset, AtsdfIntegrator& int
     Timer total;
     const std::size_t n = frames.size();
     for (const std::size_t f : frames) (void)dataset.frame(f);  // out_of_range before reading
-    ReadAhead next(dataset);
+    const bool rings = integrator.usesRings();
+    ReadAhead next(dataset, rings);
     if (read_ahead && n > 0) next.start(frames[0], LoadedScan{});
     LoadedScan scan;  // the scan being integrated
     for (std::size_t k = 0; k < n; ++k) {
@@ -103,11 +109,11 @@ DatasetIntegration integrateDataset(const Dataset& dataset, AtsdfIntegrator& int
             if (k + 1 < n) next.start(frames[k + 1], std::move(spare));
         } else {
             Timer wait;
-            scan = load(dataset, i, std::move(scan));
+            scan = load(dataset, i, rings, std::move(scan));
             out.read_wait_s += wait.elapsedSeconds();
         }
         add(out.read, scan.stats);
-        integrator.integrateScan(scan.cloud.points, dataset.frame(i).T_W_L);
+        integrator.integrateScan(scan.cloud.points, dataset.frame(i).T_W_L, scan.rings);
         if (on_scan) {
             Timer callback;
             on_scan(i);
