@@ -3,8 +3,11 @@
 
 #include <openvdb/openvdb.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "support/SimLidar.h"
@@ -14,6 +17,15 @@
 
 /// Test helpers for the TSDF / meshing tests (H3).
 namespace vdbmap::test {
+
+/// Every observed voxel of the map as (coordinate, packed value), sorted: two maps are the same
+/// map if these are equal.
+inline std::vector<std::pair<openvdb::Coord, std::uint32_t>> voxelsOf(const VoxelMap& map) {
+    std::vector<std::pair<openvdb::Coord, std::uint32_t>> out;
+    map.forEachVoxel([&](const openvdb::Coord& c, std::uint32_t v) { out.emplace_back(c, v); });
+    std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    return out;
+}
 
 /// Integrates one simulated scan per pose into `map`; returns the summed stats.
 inline IntegrationStats integrateScans(AtsdfIntegrator& integrator, const SimScene& scene,

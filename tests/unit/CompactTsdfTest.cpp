@@ -30,14 +30,6 @@ void randomLeaf(std::mt19937_64& rng, double fill, CompactTsdf::Mask& mask, std:
     }
 }
 
-/// Every observed voxel of the map as (coordinate, packed value), sorted.
-std::vector<std::pair<Coord, std::uint32_t>> voxelsOf(const VoxelMap& map) {
-    std::vector<std::pair<Coord, std::uint32_t>> out;
-    map.forEachVoxel([&](const Coord& c, std::uint32_t v) { out.emplace_back(c, v); });
-    std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    return out;
-}
-
 struct Drive {
     std::unique_ptr<VoxelMap> map;
     IntegrationStats stats;

@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "support/MapTestUtil.h"
 #include "unit/IoTestUtil.h"
 #include "vdbmap/io/Dataset.h"
 #include "vdbmap/map/AtsdfIntegrator.h"
@@ -21,11 +22,24 @@ using openvdb::Coord;
 
 namespace {
 
-std::vector<std::pair<Coord, std::uint32_t>> voxelsOf(const VoxelMap& map) {
-    std::vector<std::pair<Coord, std::uint32_t>> out;
-    map.forEachVoxel([&](const Coord& c, std::uint32_t v) { out.emplace_back(c, v); });
-    std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    return out;
+using test::voxelsOf;
+
+/// A simulated street without images in `folder`, and its dataset.
+std::shared_ptr<Dataset> simStreet(const std::filesystem::path& folder, std::size_t frames,
+                                   double size_m, std::uint64_t seed, double max_range_m) {
+    SimOptions o;
+    o.scene = "street";
+    o.frames = frames;
+    o.size_m = size_m;
+    o.seed = seed;
+    o.gt_views = 0;
+    o.images = false;
+    o.quiet = true;
+    REQUIRE(writeSimSequence(o, folder).frames == frames);
+    DatasetConfig dc;
+    dc.path = folder.string();
+    dc.max_range_m = max_range_m;
+    return Dataset::open(dc);
 }
 
 struct Run {
@@ -72,19 +86,7 @@ TEST_CASE("integrateDataset reads ahead into reused storage and maps as reading 
     // storage of a bigger one must not keep its tail, and the map must be the one of reading
     // each scan in turn, voxel for voxel.
     test::TempDir dir;
-    SimOptions o;
-    o.scene = "street";
-    o.frames = 5;
-    o.size_m = 30;
-    o.seed = 5;
-    o.gt_views = 0;
-    o.images = false;
-    o.quiet = true;
-    REQUIRE(writeSimSequence(o, dir / "street").frames == 5);
-    DatasetConfig dc;
-    dc.path = (dir / "street").string();
-    dc.max_range_m = 25.0;
-    const auto dataset = Dataset::open(dc);
+    const auto dataset = simStreet(dir / "street", 5, 30, 5, 25.0);
     REQUIRE(dataset->numFrames() == 5);
     const std::vector<std::size_t> frames{4, 0, 3, 1, 2, 0};
     std::size_t points = 0;
@@ -116,21 +118,10 @@ TEST_CASE("integrateDataset reads ahead into reused storage and maps as reading 
 
 TEST_CASE("integrateDataset rethrows a read error after the scans before it", "[tsdf][io]") {
     test::TempDir dir;
-    SimOptions o;
-    o.scene = "street";
-    o.frames = 3;
-    o.size_m = 20;
-    o.seed = 2;
-    o.gt_views = 0;
-    o.images = false;
-    o.quiet = true;
-    writeSimSequence(o, dir / "street");
     const std::filesystem::path scan = dir / "street" / "velodyne" / "000001.bin";
+    auto dataset = simStreet(dir / "street", 3, 20, 2, 200.0);
     REQUIRE(std::filesystem::exists(scan));
     std::filesystem::resize_file(scan, std::filesystem::file_size(scan) - 5);
-    DatasetConfig dc;
-    dc.path = (dir / "street").string();
-    const auto dataset = Dataset::open(dc);
     for (const int threads : {1, 2}) {
         tbb::task_arena arena(threads);
         for (const bool read_ahead : {true, false}) {
