@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -136,6 +137,15 @@ TEST_CASE("integrateDataset rethrows a read error after the scans before it", "[
                                 IoError);
             });
             CHECK(seen == std::vector<std::size_t>{0});
+            // on_scan throwing while the failing read is in flight: its exception comes out
+            // (the read's own error is dropped, not a second exception while unwinding).
+            arena.execute([&] {
+                CHECK_THROWS_WITH(integrateDataset(
+                                      *dataset, integrator, {0, 1, 2},
+                                      [](std::size_t) { throw std::runtime_error("tile writer failed"); },
+                                      read_ahead),
+                                  "tile writer failed");
+            });
         }
     }
 }

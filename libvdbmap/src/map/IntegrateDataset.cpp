@@ -42,8 +42,14 @@ class ReadAhead {
 public:
     ReadAhead(const Dataset& dataset, bool rings)
         : dataset_(dataset), rings_(rings), as_task_(threads() > 1) {}
+    /// A read still in flight here means the loop is unwinding from another exception (every
+    /// read started is taken otherwise): wait for it, and drop its own error.
     ~ReadAhead() {
-        if (as_task_) group_.wait();  // no task left running (an exception unwinds the loop)
+        if (!as_task_) return;  // std::future's destructor waits
+        try {
+            group_.wait();
+        } catch (...) {
+        }
     }
     ReadAhead(const ReadAhead&) = delete;
     ReadAhead& operator=(const ReadAhead&) = delete;
