@@ -108,10 +108,13 @@ struct MergeCell {
     static constexpr int kBits = 3 + kShift;  ///< 8 s cells per block side
     static constexpr int kMask = (1 << kBits) - 1;
     static Coord of(const Vec3f& p, float inv_voxel) {
-        constexpr float s = kDivisions == 2 ? 2.0f : 1.0f;
-        return Coord(detail::floorToInt((p.x() * inv_voxel + 0.5f) * s),
-                     detail::floorToInt((p.y() * inv_voxel + 0.5f) * s),
-                     detail::floorToInt((p.z() * inv_voxel + 0.5f) * s));
+        if constexpr (kDivisions < 2) {
+            return detail::voxelOf(p, inv_voxel);
+        } else {
+            return Coord(detail::floorToInt((p.x() * inv_voxel + 0.5f) * 2.0f),
+                         detail::floorToInt((p.y() * inv_voxel + 0.5f) * 2.0f),
+                         detail::floorToInt((p.z() * inv_voxel + 0.5f) * 2.0f));
+        }
     }
     static Coord voxel(const Coord& cell) {
         return Coord(cell.x() >> kShift, cell.y() >> kShift, cell.z() >> kShift);

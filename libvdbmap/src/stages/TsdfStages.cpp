@@ -115,8 +115,8 @@ public:
                  "(the sdf n.(c - p) is linear in p; only the voxels their rays cross and the "
                  "weights along them can differ; a merged ray's band starts half a cell diagonal "
                  "further in front, which keeps the ground the separate rays covered); near the "
-                 "sensor most ray walks "
-                 "are saved. auto: voxel in the adaptive mode, whose band keeps b across every "
+                 "sensor most ray walks are saved. auto: voxel in the adaptive mode, whose band "
+                 "keeps b across every "
                  "surface; none in the fixed and paper modes, whose band can be a voxel thin across "
                  "a grazing surface (fewer rays would leave holes there)",
                  merge_points_, std::string("auto"));

@@ -23,8 +23,9 @@ struct DatasetIntegration {
 /// order, in the LiDAR frame with its pose T_W_L. With `read_ahead`, the next scan is read and
 /// filtered while one is integrated (reading overlaps integration and `on_scan`; at most one
 /// scan in flight): as a task of the TBB threads if there are several, else on a thread of its
-/// own. Calls `on_scan(frame)` after each scan (progress, streamed tiles). A read error is rethrown as thrown by Dataset::loadScan, after the scans
-/// before it were integrated. Throws std::out_of_range for a frame past the dataset.
+/// own. Calls `on_scan(frame)` after each scan (progress, streamed tiles). A read error is
+/// rethrown as thrown by Dataset::loadScan, after the scans before it were integrated. Throws
+/// std::out_of_range for a frame past the dataset.
 DatasetIntegration integrateDataset(const Dataset& dataset, AtsdfIntegrator& integrator,
                                     const std::vector<std::size_t>& frames,
                                     const std::function<void(std::size_t)>& on_scan = {},
