@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 
-#include <openvdb/math/Coord.h>
+#include <openvdb/Types.h>
 
 #include <algorithm>
 #include <cstddef>
