@@ -17,6 +17,7 @@
 #include "map/CellColouring.h"
 #include "map/RayTraversal.h"
 #include "map/LeafNeighbourhood.h"
+#include "map/PointCells.h"
 #include "map/RayUpdate.h"
 #include "map/TsdfLeafCache.h"
 #include "vdbmap/Error.h"
@@ -40,8 +41,9 @@ constexpr std::size_t kPointChunk = 4096;
 /// (OpenVDB coordinates are 32-bit ints; the update reach must not overflow them).
 constexpr float kMaxIndex = 1e9f;
 
-/// Why a point is dropped (index + 1 into the per-chunk drop counts).
-enum PointStatus : std::uint8_t { kValid = 0, kNonFinite = 1, kAtOrigin = 2, kRange = 3 };
+using detail::kAtOrigin;
+using detail::kNonFinite;
+using detail::kRange;
 
 
 using Clock = std::chrono::steady_clock;
@@ -98,7 +100,8 @@ struct CellRays {
 };
 
 /// The cells of merge_divisions s (gatherRays): a voxel / s side, (8 s)^3 per block; s = 0
-/// (every point its own ray): the voxels. Cell j = floor((p / voxel + 1/2) s) (voxel i covers
+/// (every point its own ray): the voxels. Cell j = floor((p / voxel + 1/2) s) (classifyPoints,
+/// map/PointCells.h; voxel i covers
 /// [i - 1/2, i + 1/2)); the product is exact for s = 1, 2, so the voxel is j >> (s - 1)
 /// (floor(2 x) >> 1 = floor(x)) and a point's cell lies in its voxel, and so in its block.
 template <int kDivisions>
@@ -107,15 +110,6 @@ struct MergeCell {
     static constexpr int kShift = kDivisions == 2 ? 1 : 0;
     static constexpr int kBits = 3 + kShift;  ///< 8 s cells per block side
     static constexpr int kMask = (1 << kBits) - 1;
-    static Coord of(const Vec3f& p, float inv_voxel) {
-        if constexpr (kDivisions < 2) {
-            return detail::voxelOf(p, inv_voxel);
-        } else {
-            return Coord(detail::floorToInt((p.x() * inv_voxel + 0.5f) * 2.0f),
-                         detail::floorToInt((p.y() * inv_voxel + 0.5f) * 2.0f),
-                         detail::floorToInt((p.z() * inv_voxel + 0.5f) * 2.0f));
-        }
-    }
     static Coord voxel(const Coord& cell) {
         return Coord(cell.x() >> kShift, cell.y() >> kShift, cell.z() >> kShift);
     }
@@ -314,12 +308,9 @@ public:
 
 private:
     void classifyChunks(std::size_t n_chunks);
-    struct RangeLimits {
-        float min2, max2;  ///< squared min_range_m, max_range_m
-    };
     using BlockIndexAccessor = openvdb::tree::ValueAccessor<const openvdb::Int32Tree, false>;
     template <int kDivisions>
-    void classifyChunk(std::size_t c, const RangeLimits& limits, BlockIndexAccessor& index);
+    void classifyChunk(std::size_t c, const detail::PointLimits& limits, BlockIndexAccessor& index);
     void assignLocalBlocks(std::size_t n_chunks, IntegrationStats& st);
     void scatterOrder(std::size_t n_chunks);
     std::uint32_t gatherRays(const LocalBlock& lb, CellRays* cells) const;
@@ -351,8 +342,12 @@ void AtsdfIntegrator::ScanPass::classifyChunks(std::size_t n_chunks) {
     // is known to the compiler.
     // Range checks on squared float ranges (no square root per point).
     const double max_range_m = std::min(config_.max_range_m, 1e18);  // its square fits a float
-    const RangeLimits limits{static_cast<float>(config_.min_range_m * config_.min_range_m),
-                             static_cast<float>(max_range_m * max_range_m)};
+    detail::PointLimits limits;
+    limits.origin_W = origin_f_;
+    limits.min_range2 = static_cast<float>(config_.min_range_m * config_.min_range_m);
+    limits.max_range2 = static_cast<float>(max_range_m * max_range_m);
+    limits.inv_voxel = inv_vs_f_;
+    limits.max_index = kMaxIndex;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n_chunks, 1),
                       [&](const tbb::blocked_range<std::size_t>& r) {
         BlockIndexAccessor index(blocks_.indexTree());
@@ -367,11 +362,12 @@ void AtsdfIntegrator::ScanPass::classifyChunks(std::size_t n_chunks) {
 }
 
 template <int kDivisions>
-void AtsdfIntegrator::ScanPass::classifyChunk(std::size_t c, const RangeLimits& limits,
+void AtsdfIntegrator::ScanPass::classifyChunk(std::size_t c, const detail::PointLimits& limits,
                                               BlockIndexAccessor& index) {
     // Classify each point of chunk c and cut the chunk into runs of consecutive valid points of
     // the same block (a scan line stays in a block for many points), looking up each run's
-    // block once. With merged rays, each point's cell in its block is kept for gatherRays.
+    // block once. With merged rays, each point's cell in its block is kept for gatherRays. The
+    // checks and cells come a batch at a time (classifyPoints: branch-free, four points at once).
     using Cell = MergeCell<kDivisions>;
     std::vector<PointRun>& runs = s_.runs[c];
     runs.clear();
@@ -380,41 +376,32 @@ void AtsdfIntegrator::ScanPass::classifyChunk(std::size_t c, const RangeLimits& 
     Coord prev_block = Coord::max();
     std::int32_t prev_slot = -1;
     bool in_run = false;
+    detail::PointCells batch;
     const std::size_t end = std::min(points_W_.size(), (c + 1) * kPointChunk);
-    for (std::size_t i = c * kPointChunk; i < end; ++i) {
-        const Vec3f& p = points_W_[i];
-        if (!(std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z()))) {
-            ++drops[kNonFinite - 1];
-            in_run = false;
-            continue;
-        }
-        const float range2 = (p - origin_f_).squaredNorm();
-        if (range2 < limits.min2) {
-            ++drops[kAtOrigin - 1];
-            in_run = false;
-            continue;
-        }
-        // Beyond max_range_m, or beyond the int voxel index range.
-        if (range2 > limits.max2 || !(std::abs(p.x() * inv_vs_f_) < kMaxIndex &&
-                                      std::abs(p.y() * inv_vs_f_) < kMaxIndex &&
-                                      std::abs(p.z() * inv_vs_f_) < kMaxIndex)) {
-            ++drops[kRange - 1];
-            in_run = false;
-            continue;
-        }
-        const Coord cell = Cell::of(p, inv_vs_f_);
-        const Coord block = BlockStatsGrid::blockOf(Cell::voxel(cell));
-        if constexpr (kDivisions > 0) cell_in_block[i] = Cell::inBlock(cell);
-        if (block != prev_block) {
-            prev_block = block;
-            prev_slot = index.getValue(block);
-            in_run = false;
-        }
-        if (in_run) {
-            ++runs.back().length;
-        } else {
-            runs.push_back({static_cast<std::uint32_t>(i), 1, prev_slot, 0, block});
-            in_run = true;
+    for (std::size_t first = c * kPointChunk; first < end; first += detail::PointCells::kCapacity) {
+        const std::size_t n = std::min(detail::PointCells::kCapacity, end - first);
+        detail::classifyPoints<kDivisions == 2 ? 2 : 1>(points_W_.data() + first, n, limits, batch);
+        for (std::size_t j = 0; j < n; ++j) {
+            if (batch.status[j] != detail::kValid) {
+                ++drops[static_cast<std::size_t>(batch.status[j] - 1)];
+                in_run = false;
+                continue;
+            }
+            const std::size_t i = first + j;
+            const Coord cell(batch.x[j], batch.y[j], batch.z[j]);
+            const Coord block = BlockStatsGrid::blockOf(Cell::voxel(cell));
+            if constexpr (kDivisions > 0) cell_in_block[i] = Cell::inBlock(cell);
+            if (block != prev_block) {
+                prev_block = block;
+                prev_slot = index.getValue(block);
+                in_run = false;
+            }
+            if (in_run) {
+                ++runs.back().length;
+            } else {
+                runs.push_back({static_cast<std::uint32_t>(i), 1, prev_slot, 0, block});
+                in_run = true;
+            }
         }
     }
 }
