@@ -399,7 +399,13 @@ void AtsdfIntegrator::ScanPass::classifyChunk(std::size_t c, const detail::Point
             if (in_run) {
                 ++runs.back().length;
             } else {
-                runs.push_back({static_cast<std::uint32_t>(i), 1, prev_slot, 0, block});
+                // Field by field into the vector: a braced temporary was built on the stack and
+                // copied in 16-byte pieces, which stalled on its 4-byte stores (store forwarding).
+                PointRun& run = runs.emplace_back();
+                run.first = static_cast<std::uint32_t>(i);
+                run.length = 1;
+                run.slot = prev_slot;
+                run.block = block;
                 in_run = true;
             }
         }
