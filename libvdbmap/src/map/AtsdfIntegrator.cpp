@@ -101,9 +101,9 @@ struct CellRays {
 
 /// The cells of merge_divisions s (gatherRays): a voxel / s side, (8 s)^3 per block; s = 0
 /// (every point its own ray): the voxels. Cell j = floor((p / voxel + 1/2) s) (classifyPoints,
-/// map/PointCells.h; voxel i covers
-/// [i - 1/2, i + 1/2)); the product is exact for s = 1, 2, so the voxel is j >> (s - 1)
-/// (floor(2 x) >> 1 = floor(x)) and a point's cell lies in its voxel, and so in its block.
+/// map/PointCells.h; voxel i covers [i - 1/2, i + 1/2)); the product is exact for s = 1, 2, so
+/// the voxel is j >> (s - 1) (floor(2 x) >> 1 = floor(x)) and a point's cell lies in its voxel,
+/// and so in its block.
 template <int kDivisions>
 struct MergeCell {
     static_assert(kDivisions >= 0 && kDivisions <= 2, "merge_divisions is 0, 1 or 2");
