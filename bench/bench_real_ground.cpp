@@ -6,7 +6,7 @@
 // with each merge_points setting: the share of ground cells left empty, and the mean vertex
 // distance to the cells' planes on the cells both it and fixed eps_max cover.
 //
-//   bench_real_ground --range 0.1 0.3 ../shared/data/kitti_scans_real/*.bin
+//   build/bin/bench_real_ground --range 0.1 0.3 tests/data/kitti_scans_real/*.bin
 //
 // Prints a Markdown table (one row per scan and mode, then the mean over the scans) on stdout.
 #include <CLI/CLI.hpp>

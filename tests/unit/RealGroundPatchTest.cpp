@@ -5,7 +5,8 @@
 // a small truncation leaves holes. The adaptive mode must leave fewer holes there than fixed
 // eps_min and be no less accurate there than fixed eps_max. This frame is the one the merged
 // rays' longer front was chosen on; bench/bench_real_ground scores all six scans of
-// ../shared/data (docs/results/geometry.md: at [0.1, 0.3] the merged rays hold on 2 of them).
+// tests/data/kitti_scans_real (docs/results/geometry.md: at [0.1, 0.3] the merged rays hold on
+// 2 of them).
 #include <catch2/catch.hpp>
 
 #include <filesystem>
