@@ -37,14 +37,10 @@ using openvdb::Coord;
 namespace atsdf_scan {
 
 constexpr std::size_t kPointChunk = 4096;
-/// Points further than this many voxels from the world origin are dropped as absurd ranges
-/// (OpenVDB coordinates are 32-bit ints; the update reach must not overflow them).
-constexpr float kMaxIndex = 1e9f;
 
 using detail::kAtOrigin;
 using detail::kNonFinite;
 using detail::kRange;
-
 
 using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point t0) {
@@ -347,7 +343,6 @@ void AtsdfIntegrator::ScanPass::classifyChunks(std::size_t n_chunks) {
     limits.min_range2 = static_cast<float>(config_.min_range_m * config_.min_range_m);
     limits.max_range2 = static_cast<float>(max_range_m * max_range_m);
     limits.inv_voxel = inv_vs_f_;
-    limits.max_index = kMaxIndex;
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n_chunks, 1),
                       [&](const tbb::blocked_range<std::size_t>& r) {
         BlockIndexAccessor index(blocks_.indexTree());

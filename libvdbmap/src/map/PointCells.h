@@ -18,7 +18,8 @@ namespace vdbmap::detail {
 enum PointStatus : std::int32_t { kValid = 0, kNonFinite = 1, kAtOrigin = 2, kRange = 3 };
 
 /// What phase 1 checks a point against: squared range bounds around the sensor origin, and the
-/// largest |coordinate| / voxel (OpenVDB coordinates are 32-bit ints).
+/// largest |coordinate| / voxel: points further from the world origin are dropped as absurd
+/// ranges (OpenVDB coordinates are 32-bit ints; the update reach must not overflow them).
 struct PointLimits {
     Vec3f origin_W = Vec3f::Zero();
     float min_range2 = 0.0f;  ///< closer (squared, m^2): kAtOrigin
