@@ -70,6 +70,14 @@ TEST_CASE("KITTI layout errors name the file and the problem", "[io][dataset]") 
         CHECK_THAT(test::ioErrorMessage([&] { dataset->loadScan(1); }),
                    Contains("000001.bin") && Contains("40"));
     }
+    SECTION("hidden files named like scans are not frames") {
+        // Another process's temporary file (AtomicFile's name) and macOS's AppleDouble file.
+        test::writeText(dir / "velodyne" / ".000001.bin.tmp123-0.bin", std::string(32, '\0'));
+        test::writeText(dir / "velodyne" / "._000002.bin", "Mac OS X resource fork");
+        const auto dataset = openKitti(dir.path());
+        CHECK(dataset->numFrames() == 3);
+        CHECK_NOTHROW(dataset->loadScan(2));
+    }
     SECTION("times.txt shorter than the sequence") {
         test::writeText(dir / "times.txt", "0.0\n");
         CHECK_THAT(test::ioErrorMessage([&] { openKitti(dir.path()); }), Contains("times.txt"));

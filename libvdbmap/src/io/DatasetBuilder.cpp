@@ -42,9 +42,18 @@ std::vector<std::filesystem::path> DatasetBuilder::listScans(const std::filesyst
                                                              const std::string& what) {
     requireFolder(folder, what);
     std::vector<std::filesystem::path> scans;
+    std::vector<std::string> hidden;
     std::error_code ec;
     for (const auto& entry : std::filesystem::directory_iterator(folder, ec)) {
         if (!isPointCloudFile(entry.path())) continue;
+        // Hidden files are never frames: another writer's temporary file (".000003.bin.tmp
+        // <pid>-<n>.bin", see AtomicFile) or macOS's "._000003.bin". Counting one would add a
+        // frame, so they are skipped, and said so.
+        const std::string name = entry.path().filename().string();
+        if (name.front() == '.') {
+            hidden.push_back(name);
+            continue;
+        }
         // A folder (or socket, fifo...) named like a scan is not skipped in silence: the
         // frame count would quietly change.
         std::error_code type_ec;
@@ -57,6 +66,12 @@ std::vector<std::filesystem::path> DatasetBuilder::listScans(const std::filesyst
         scans.push_back(entry.path());
     }
     if (ec) throw IoError("cannot list " + folder.string() + ": " + ec.message());
+    if (!hidden.empty()) {
+        std::sort(hidden.begin(), hidden.end());
+        logWarn(what + " folder " + folder.string() + ": skipped " +
+                std::to_string(hidden.size()) + " hidden file(s) named like scans, e.g. '" +
+                hidden.front() + "'");
+    }
     if (scans.empty()) {
         throw IoError(what + " folder " + folder.string() + " holds no scans (.bin, .pcd, .ply)");
     }
