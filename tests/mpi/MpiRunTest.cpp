@@ -84,7 +84,9 @@ TEST_CASE("mpirun -np 3 writes the tiles, index and map of the single-process ru
     fs::remove_all(single);
     fs::remove_all(mpi);
     Child one(test::kVdbmapExe, {"run", config.string(), "-o", single.string(), "--quiet"});
-    REQUIRE(one.exitCode() == 0);
+    const int one_code = one.exitCode();
+    INFO(one.log());
+    REQUIRE(one_code == 0);
     Child three(VDBMAP_MPIEXEC, mpiArgs(3, config, mpi), mpiEnv());
     INFO(three.log());
     REQUIRE(three.exitCode() == 0);
@@ -165,7 +167,9 @@ TEST_CASE("mpirun with more ranks than tiles warns and still writes every tile",
     fs::remove_all(single);
     fs::remove_all(mpi);
     Child one(test::kVdbmapExe, {"run", config.string(), "-o", single.string(), "--quiet"});
-    REQUIRE(one.exitCode() == 0);
+    const int one_code = one.exitCode();
+    INFO(one.log());
+    REQUIRE(one_code == 0);
     // At most 6 tiles within reach (4 written: the street crosses x = 0 and z = 0).
     Child job(VDBMAP_MPIEXEC, mpiArgs(7, config, mpi), mpiEnv());
     const int code = job.exitCode();

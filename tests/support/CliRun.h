@@ -119,15 +119,30 @@ private:
 };
 
 /// A simulated KITTI street of `size_m` metres in `frames` frames (images, semantic images,
-/// LiDAR labels, no held-out views) at `dir`, written once.
+/// LiDAR labels, no held-out views) at `dir`, written once. Test cases of one file run as
+/// parallel ctest processes and may share `dir`: the sequence is written into a folder of
+/// this process and renamed onto `dir` in one step, so no process reads a half-written one.
+/// The first rename wins; a later writer drops its copy.
 inline void writeSimStreet(const std::filesystem::path& dir, std::size_t frames, double size_m) {
-    if (std::filesystem::exists(dir / "gt" / "sim.json")) return;
+    namespace fs = std::filesystem;
+    if (fs::exists(dir / "gt" / "sim.json")) return;
+    const fs::path staging =
+        dir.parent_path() / (dir.filename().string() + ".writing." + std::to_string(::getpid()));
+    fs::remove_all(staging);
     SimOptions sim;
     sim.frames = frames;
     sim.size_m = size_m;
     sim.gt_views = 0;
     sim.quiet = true;
-    writeSimSequence(sim, dir);
+    writeSimSequence(sim, staging);
+    std::error_code error;
+    fs::rename(staging, dir, error);  // fails when another process's copy is already there
+    if (error) {
+        fs::remove_all(staging);
+        if (!fs::exists(dir / "gt" / "sim.json")) {
+            throw fs::filesystem_error("writeSimStreet: cannot rename", staging, dir, error);
+        }
+    }
 }
 
 /// A small simulated KITTI sequence (street, 3 frames, 20 m) at `dir`, written once.
