@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: Apache-2.0
-"""Merges the tiles of a tiled `vdbmap run` (tiles.json) into the single outputs of DATA.md:
+"""Merges the tiles of a tiled `vdbmap run` (tiles.json) into the single outputs of docs/DATA.md:
 mesh.ply, semantic/mesh.ply (face labels and colours) and textured/mesh.obj (+ mesh.mtl whose
 materials point at the tiles' atlas pages). Faces are concatenated tile by tile (no tile owns a
 face twice, so nothing is dropped); vertices on tile borders appear once per tile.

@@ -80,7 +80,7 @@ int describe(const DescribeArgs& args) {
         vdbmap::OptionSpec spec;
         config.declareOptions(spec);
         std::cout << "dataset  [pipeline section `dataset:`]\n"
-                  << "  Where the scans, poses, calibration and images come from (DATA.md)\n";
+                  << "  Where the scans, poses, calibration and images come from (docs/DATA.md)\n";
         printSpec(spec);
         vdbmap::DatasetCameraConfig camera;
         vdbmap::OptionSpec camera_spec;

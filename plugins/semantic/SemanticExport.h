@@ -28,7 +28,7 @@ std::map<std::uint8_t, ClassStats> classStatistics(const TriMesh& mesh,
 /// needed. Throws InvalidInput on a size mismatch.
 void setFaceLabelProperty(TriMesh& mesh, const std::vector<std::uint8_t>& face_labels);
 
-/// `semantic/mesh.ply` (DATA.md): binary PLY with face uchar label and red green blue from the
+/// `semantic/mesh.ply` (docs/DATA.md): binary PLY with face uchar label and red green blue from the
 /// label set's colours (black for 255), and float "confidence" if `confidence` is non-null.
 /// Atomic. Throws IoError / InvalidInput.
 void writeSemanticPly(const std::filesystem::path& path, const TriMesh& mesh,

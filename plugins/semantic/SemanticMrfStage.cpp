@@ -146,7 +146,7 @@ void SemanticMrfStage::declareOptions(OptionSpec& spec) {
              opt_.visibility.occlusion_tolerance_m, 0.02, "m");
     spec.add("labels_file",
              "Label set file 'id, name, r g b' (overrides the dataset's; '' = dataset's or the "
-             "DATA.md default)",
+             "docs/DATA.md default)",
              opt_.labels_file, std::string());
     spec.add("export_classes", "Class ids also written as their own mesh (class_<id>_<name>.ply)",
              opt_.export_classes, std::vector<int>{});

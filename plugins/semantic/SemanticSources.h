@@ -39,7 +39,7 @@ struct FaceArrays {
 };
 FaceArrays faceArrays(const TriMesh& mesh);
 
-/// The label set: the stage's `labels_file`, else the dataset's, else DATA.md's default.
+/// The label set: the stage's `labels_file`, else the dataset's, else docs/DATA.md's default.
 /// Every id of `export_classes` must be in it.
 LabelSet loadLabelSet(const std::string& stage, const std::string& labels_file,
                       const Dataset& dataset, const std::vector<int>& export_classes);

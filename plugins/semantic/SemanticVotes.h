@@ -32,7 +32,7 @@ struct FaceVotes {
 
 /// Votes of every visible (face, view) pair. `label_images[v]` is the 8-bit id image of view v
 /// (the view index of FaceObservation). The centre pixel is the centroid of the projected
-/// corners, rounded to the nearest pixel (DATA.md: (0,0) is the centre of the top-left pixel).
+/// corners, rounded to the nearest pixel (docs/DATA.md: (0,0) is the centre of the top-left pixel).
 /// Void (255) and ids outside `labels` do not vote (counted). Parallel over faces,
 /// deterministic. Throws InvalidInput if an observation refers to a missing view or an image
 /// that is not 8-bit single channel.

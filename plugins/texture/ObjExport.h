@@ -19,7 +19,7 @@ std::string atlasFileName(std::size_t page);
 /// atlasFileName(page).
 ObjMesh makeTexturedObj(const MeshArrays& mesh, const TextureResult& texture);
 
-/// Writes `dir`/mesh.obj, `dir`/mesh.mtl and the atlas PNGs (DATA.md layout: relative texture
+/// Writes `dir`/mesh.obj, `dir`/mesh.mtl and the atlas PNGs (docs/DATA.md layout: relative texture
 /// paths), each atomically; the PNGs are written first so that a reader of mesh.obj always
 /// finds its textures. Throws IoError.
 void writeTexturedMesh(const std::filesystem::path& dir, const MeshArrays& mesh,

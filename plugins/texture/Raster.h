@@ -10,7 +10,7 @@
 namespace vdbmap::texture {
 
 /// Calls `span(y, x_begin, x_end)` (x_end exclusive) for every image row y whose pixel centres
-/// inside the triangle `pixels` (DATA.md pixel convention: (0,0) is the centre of the top-left
+/// inside the triangle `pixels` (docs/DATA.md pixel convention: (0,0) is the centre of the top-left
 /// pixel) form a non-empty run, clipped to [0, width) x [0, height). Returns the number of
 /// covered pixels. A triangle that covers no pixel centre yields nothing (callers fall back to
 /// the pixel nearest to the centroid).

@@ -71,7 +71,7 @@ struct ImageCrop {
     cv::Size size;
 };
 
-/// Bilinear colour at a continuous pixel position (DATA.md convention), clamped to the image.
+/// Bilinear colour at a continuous pixel position (docs/DATA.md convention), clamped to the image.
 Vec3f sampleBilinear(const ImageCrop& image, const Eigen::Vector2f& p) {
     const int width = image.size.width, height = image.size.height;
     const float x = std::clamp(p.x(), 0.0f, float(width - 1));

@@ -28,7 +28,7 @@ TEST_CASE("KITTI frames: T_W_L = T_W_C0 * Tr and camera 2 through P2", "[io][fra
     CHECK_FALSE((fixture.T_W_C0[0].inverse() * X_W).isApprox(X_L0, 1e-3));
 
     for (std::size_t i = 0; i < 3; ++i) {
-        // LiDAR frame: X_C0 = T_W_C0^-1 X_W, and X_L = Tr^-1 X_C0 (DATA.md: X_C0 = Tr X_L).
+        // LiDAR frame: X_C0 = T_W_C0^-1 X_W, and X_L = Tr^-1 X_C0 (docs/DATA.md: X_C0 = Tr X_L).
         const Vec3d X_C0 = fixture.T_W_C0[i].inverse() * X_W;
         const Vec3d X_L = fixture.calib.Tr.inverse() * X_C0;
         CHECK((dataset->frame(i).T_W_L.inverse() * X_W).isApprox(X_L, 1e-12));

@@ -15,7 +15,7 @@
 
 namespace vdbmap::test {
 
-/// A tiny KITTI sequence on disk with a non-identity Tr and a P2 with non-zero t (DATA.md):
+/// A tiny KITTI sequence on disk with a non-identity Tr and a P2 with non-zero t (docs/DATA.md):
 /// 3 frames, image_2 for frames 0 and 2 only, semantic_2 for frame 0 only, no image_3.
 struct KittiFixture {
     Mat3d K;

@@ -7,7 +7,7 @@
 using namespace vdbmap;
 using Catch::Matchers::Contains;
 
-TEST_CASE("Default label set is DATA.md's table", "[io][labels]") {
+TEST_CASE("Default label set is docs/DATA.md's table", "[io][labels]") {
     const LabelSet labels = LabelSet::defaults();
     REQUIRE(labels.size() == 21);
     CHECK(labels.name(0) == "road");

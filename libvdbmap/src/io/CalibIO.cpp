@@ -178,7 +178,7 @@ Camera kittiCamera(const Mat34d& P_k, const Isometry3d& Tr, const std::string& i
     camera.intrinsics.fy = K(1, 1);
     camera.intrinsics.cx = K(0, 2);
     camera.intrinsics.cy = K(1, 2);
-    // DATA.md: P_k = K_k [I | t_k]  =>  t_k = K_k^-1 P_k[:,3], T_Ck_C0 = [I | t_k].
+    // docs/DATA.md: P_k = K_k [I | t_k]  =>  t_k = K_k^-1 P_k[:,3], T_Ck_C0 = [I | t_k].
     const Vec3d t_k = K.triangularView<Eigen::Upper>().solve(Vec3d(P_k.col(3)));
     Isometry3d T_Ck_C0 = Isometry3d::Identity();
     T_Ck_C0.translation() = t_k;

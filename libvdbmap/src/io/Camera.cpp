@@ -31,7 +31,7 @@ bool CameraIntrinsics::project(const Vec3d& p_C, Vec2d& pixel) const {
         x = xd;
         y = yd;
     }
-    // (0,0) is the centre of the top-left pixel (DATA.md), as in OpenCV.
+    // (0,0) is the centre of the top-left pixel (docs/DATA.md), as in OpenCV.
     pixel = Vec2d(fx * x + cx, fy * y + cy);
     return true;
 }

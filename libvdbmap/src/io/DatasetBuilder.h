@@ -10,7 +10,7 @@
 
 namespace vdbmap {
 
-/// Fills a Dataset from one of the two layouts of DATA.md (friend of Dataset).
+/// Fills a Dataset from one of the two layouts of docs/DATA.md (friend of Dataset).
 class DatasetBuilder {
 public:
     /// KITTI odometry layout: velodyne/, calib.txt, poses.txt, times.txt, image_k/, semantic_k/.

@@ -5,7 +5,7 @@
 namespace vdbmap {
 
 void DatasetConfig::declareOptions(OptionSpec& spec) {
-    spec.add<std::string>("format", "Layout: 'kitti' (KITTI odometry) or 'generic' (DATA.md)",
+    spec.add<std::string>("format", "Layout: 'kitti' (KITTI odometry) or 'generic' (docs/DATA.md)",
                           format, "kitti");
     spec.add<std::string>("path", "Sequence folder (relative to the YAML file)", path, "");
     spec.add("min_range_m", "Points closer to the sensor are dropped and counted", min_range_m, 1.0,
@@ -40,7 +40,8 @@ void DatasetConfig::declareOptions(OptionSpec& spec) {
                           "Generic: calibration file with K:, D:, T: lines (replaces intrinsics, "
                           "distortion, T_C_L)",
                           calib_file, "");
-    spec.add<std::string>("labels_file", "Label set 'id, name, r g b'; empty = DATA.md default",
+    spec.add<std::string>("labels_file",
+                          "Label set 'id, name, r g b'; empty = docs/DATA.md default",
                           labels_file, "");
     spec.add<std::string>("labels_dir",
                           "Per-point LiDAR labels (SemanticKITTI .label, one per scan, same stem); "

@@ -76,7 +76,7 @@ void DatasetBuilder::openKitti(Dataset& dataset) {
                           " scans (frame " + frame.id + " needs pose line " +
                           std::to_string(line + 1) + ")");
         }
-        // DATA.md: poses.txt holds T_W_C0; the LiDAR pose is T_W_L = T_W_C0 * Tr.
+        // docs/DATA.md: poses.txt holds T_W_C0; the LiDAR pose is T_W_L = T_W_C0 * Tr.
         frame.T_W_L = poses_C0[line] * calib.Tr;
         if (!times.empty()) {
             if (line >= times.size()) {

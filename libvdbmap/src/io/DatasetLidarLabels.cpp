@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// The per-point LiDAR labels of a dataset (DATA.md: SEQ/labels/NNNNNN.label, or `labels_dir`).
+// The per-point LiDAR labels of a dataset (docs/DATA.md: SEQ/labels/NNNNNN.label, or `labels_dir`).
 #include <system_error>
 
 #include "io/DatasetBuilder.h"

@@ -16,7 +16,7 @@ struct DefaultClass {
     int r, g, b;
 };
 
-// DATA.md "Semantic classes (default label set)": Cityscapes trainIds plus lane markings.
+// docs/DATA.md "Semantic classes (default label set)": Cityscapes trainIds plus lane markings.
 constexpr DefaultClass kDefaultClasses[] = {
     {0, "road", 128, 64, 128},
     {1, "sidewalk", 244, 35, 232},

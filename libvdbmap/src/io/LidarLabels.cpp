@@ -69,7 +69,7 @@ LabelMap LabelMap::identity() {
 }
 
 LabelMap LabelMap::semanticKitti() {
-    // semantic-kitti.yaml `labels` -> DATA.md ids (255 = void).
+    // semantic-kitti.yaml `labels` -> docs/DATA.md ids (255 = void).
     static constexpr std::uint16_t kTable[][2] = {
         {0, 255},  {1, 255},  {10, 13},  {11, 18},  {13, 15},  {15, 17},  {16, 16},
         {18, 14},  {20, 14},  {30, 11},  {31, 12},  {32, 12},  {40, 0},   {44, 0},

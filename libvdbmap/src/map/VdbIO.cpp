@@ -49,7 +49,7 @@ public:
 openvdb::GridBase::Ptr mapVdbGrid(const VoxelMap& map, int i) {
     const auto eps_max = map.metadata().getMetadata<openvdb::DoubleMetadata>("truncation_max_m");
     if (i == 0) {
-        // Plain float grids decoded from the packed TSDF; names and classes are DATA.md's.
+        // Plain float grids decoded from the packed TSDF; names and classes are docs/DATA.md's.
         openvdb::FloatGrid::Ptr surface = map.surfaceGrid();
         surface->setSaveFloatAsHalf(false);
         return surface;

@@ -250,7 +250,7 @@ private:
         pipeline_.checkLayers(detail::datasetLayers(*dataset));
         report_.set({"counts", "frames"}, dataset->numFrames());
         report_.set({"counts", "cameras"}, dataset->cameras().size());
-        // DATA.md: a missing image or semantic file is no error, but the run reports it.
+        // docs/DATA.md: a missing image or semantic file is no error, but the run reports it.
         report_.set({"counts", "missing_images"}, dataset->missingImages());
         report_.set({"counts", "missing_semantic_images"}, dataset->missingSemantics());
         for (std::size_t cam = 0; cam < dataset->cameras().size(); ++cam) {

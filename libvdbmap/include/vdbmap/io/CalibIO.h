@@ -15,7 +15,7 @@ namespace vdbmap {
 /// Row-major 3x4 matrix, as in KITTI calib and pose files.
 using Mat34d = Eigen::Matrix<double, 3, 4>;
 
-/// KITTI odometry calib.txt (DATA.md): projection matrices P0..P3 of the rectified cameras
+/// KITTI odometry calib.txt (docs/DATA.md): projection matrices P0..P3 of the rectified cameras
 /// (P_k = K_k [I | t_k], mapping camera-0 coordinates to pixels) and Tr, LiDAR -> camera 0.
 struct KittiCalib {
     std::array<std::optional<Mat34d>, 4> P;  ///< P0..P3 (missing lines stay empty)
@@ -31,7 +31,7 @@ KittiCalib readKittiCalib(const std::filesystem::path& path);
 /// Writes a KITTI calib.txt (P0..P3 that are set, then Tr), atomically. Throws IoError.
 void writeKittiCalib(const std::filesystem::path& path, const KittiCalib& calib);
 
-/// Camera k of a KITTI sequence (DATA.md): P_k = K_k [I | t_k], so t_k = K_k^-1 P_k[:,3],
+/// Camera k of a KITTI sequence (docs/DATA.md): P_k = K_k [I | t_k], so t_k = K_k^-1 P_k[:,3],
 /// T_Ck_C0 = [I | t_k] and T_Ck_L = T_Ck_C0 * Tr. Width/height are left 0 (read from the
 /// images). Throws InvalidInput if the left 3x3 block of P_k is not an upper-triangular K with
 /// positive focal lengths.

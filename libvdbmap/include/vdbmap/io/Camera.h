@@ -9,7 +9,7 @@
 namespace vdbmap {
 
 /// Pinhole intrinsics with optional radial-tangential (OpenCV "plumb bob") distortion.
-/// Pixel convention (DATA.md): (0,0) is the centre of the top-left pixel.
+/// Pixel convention (docs/DATA.md): (0,0) is the centre of the top-left pixel.
 struct CameraIntrinsics {
     int width = 0;                          ///< px
     int height = 0;                         ///< px

@@ -17,7 +17,7 @@ namespace vdbmap {
 class OptionSpec;
 class LabelSet;
 
-/// The `dataset:` section of a pipeline (DATA.md). Declared through an OptionSpec so that the
+/// The `dataset:` section of a pipeline (docs/DATA.md). Declared through an OptionSpec so that the
 /// YAML checks and `vdbmap describe dataset` work as for stages.
 /// Relative `path` and `labels_file` resolve against the YAML file's folder; the generic
 /// layout's scans_dir, poses_file, image_dir, semantic_dir and calib_file (also those of each
@@ -50,7 +50,7 @@ struct DatasetConfig {
     std::vector<double> distortion;        ///< generic: k1 k2 p1 p2 [k3]
     std::vector<double> T_C_L;             ///< generic: 12 (3x4) or 16 (4x4) row-major
     std::string calib_file;   ///< generic: K/D/T file; replaces intrinsics, distortion, T_C_L
-    std::string labels_file;  ///< label set "id, name, r g b" ("" = DATA.md default)
+    std::string labels_file;  ///< label set "id, name, r g b" ("" = docs/DATA.md default)
     /// Per-point LiDAR labels (SemanticKITTI .label, one per scan, same stem). Generic: the
     /// folder ("" = none); KITTI: SEQ/labels/ when present (this key overrides the folder).
     std::string labels_dir;
@@ -84,7 +84,7 @@ struct FrameInfo {
 };
 
 /// A sequence: frames with poses, cameras with calibration, and lazily read scans and images.
-/// KITTI frames follow DATA.md exactly: T_W_L = T_W_C0 * Tr, and camera k has
+/// KITTI frames follow docs/DATA.md exactly: T_W_L = T_W_C0 * Tr, and camera k has
 /// T_Ck_L = [I | t_k] * Tr with P_k = K_k [I | t_k].
 class Dataset {
 public:
@@ -133,7 +133,7 @@ public:
     /// Number of (frame, camera) pairs without a semantic image, over cameras that have a
     /// semantic folder.
     std::size_t missingSemantics() const;
-    /// The label set of `labels_file` (DATA.md defaults if empty). Throws IoError.
+    /// The label set of `labels_file` (docs/DATA.md defaults if empty). Throws IoError.
     LabelSet labels() const;
 
 private:

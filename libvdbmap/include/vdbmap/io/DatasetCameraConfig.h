@@ -8,7 +8,7 @@ namespace vdbmap {
 
 class OptionSpec;
 
-/// One camera of the generic layout (DATA.md): an entry of the `dataset: cameras:` list, e.g.
+/// One camera of the generic layout (docs/DATA.md): an entry of the `dataset: cameras:` list, e.g.
 ///
 ///     cameras:
 ///       - name: front                # optional; default: the image folder's name

@@ -9,7 +9,7 @@
 
 namespace vdbmap {
 
-/// A semantic label set: id, name, colour. The default is DATA.md's table (Cityscapes trainIds
+/// A semantic label set: id, name, colour. The default is docs/DATA.md's table (Cityscapes trainIds
 /// 0-18, 19 lane marking, 20 other object; 255 void / unknown).
 struct LabelClass {
     std::uint8_t id = 0;
@@ -19,7 +19,7 @@ struct LabelClass {
 
 class LabelSet {
 public:
-    /// DATA.md's default set (21 classes, not counting 255).
+    /// docs/DATA.md's default set (21 classes, not counting 255).
     static LabelSet defaults();
     /// Reads lines "id, name, r g b" ('#' comments). Throws IoError naming file and line.
     static LabelSet fromFile(const std::filesystem::path& path);

@@ -10,7 +10,7 @@
 
 namespace vdbmap {
 
-/// Per-point LiDAR labels in SemanticKITTI's `.label` format (DATA.md): one little-endian
+/// Per-point LiDAR labels in SemanticKITTI's `.label` format (docs/DATA.md): one little-endian
 /// uint32 per point of the scan, in its order; the lower 16 bits are the class id, the upper
 /// 16 bits the instance id.
 struct LidarLabels {
@@ -46,7 +46,7 @@ class LabelMap {
 public:
     /// Every source id 0..255 maps to itself; ids above 255 are unknown.
     static LabelMap identity();
-    /// SemanticKITTI's raw ids -> DATA.md's default label set (the table of
+    /// SemanticKITTI's raw ids -> docs/DATA.md's default label set (the table of
     /// config/label_maps/semantickitti.txt), named "semantickitti".
     static LabelMap semanticKitti();
     /// Parses the text of a map file. Throws IoError naming `name`, the line and the text of a

@@ -21,7 +21,7 @@ struct PlyWriteOptions {
     const std::vector<std::array<std::uint8_t, 3>>* vertex_colors = nullptr;
 };
 
-/// Writes binary little-endian PLY (DATA.md), atomically. Throws IoError.
+/// Writes binary little-endian PLY (docs/DATA.md), atomically. Throws IoError.
 void writeMeshPly(const std::filesystem::path& path, const TriMesh& mesh,
                   const PlyWriteOptions& options = {});
 

@@ -44,6 +44,6 @@ namespace vdbmap {
 inline constexpr const char* kFaceLabelProperty = "label";
 /// OpenMesh face property (int) that holds the view chosen to texture each face; -1 = none.
 inline constexpr const char* kFaceTextureViewProperty = "texture_view";
-/// Class id for void / unknown (DATA.md).
+/// Class id for void / unknown (docs/DATA.md).
 inline constexpr unsigned char kUnknownLabel = 255;
 }  // namespace vdbmap

@@ -17,8 +17,8 @@ namespace vdbmap {
 /// Why: a leaf is 2 KiB instead of the 4 KiB of two float grids, and a voxel update touches
 /// one cache line instead of two. The quanta follow from the map's ranges: with an sdf range of
 /// 0.30 m the distance resolution is 9.2 um, with a weight range of 100 it is 0.0015, far below
-/// the range noise and the weight floor. map.vdb still holds plain float grids (DATA.md), decoded
-/// at export (VoxelMap::surfaceGrid, weightGrid).
+/// the range noise and the weight floor. map.vdb still holds plain float grids (docs/DATA.md),
+/// decoded at export (VoxelMap::surfaceGrid, weightGrid).
 using TsdfTree = openvdb::UInt32Tree;
 using TsdfGrid = openvdb::Grid<TsdfTree>;
 using TsdfLeaf = TsdfTree::LeafNodeType;

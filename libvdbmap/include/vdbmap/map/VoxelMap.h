@@ -87,8 +87,8 @@ public:
     /// Bytes of the TSDF, both stores (distance and weight; statistics excluded).
     std::size_t tsdfMemoryBytes() const;
 
-    /// Decoded float grids with the topology of the TSDF, for map.vdb (DATA.md) and inspection:
-    /// "surface" (level set class, background +sdf range) and "weight" (background 0).
+    /// Decoded float grids with the topology of the TSDF, for map.vdb (docs/DATA.md) and
+    /// inspection: "surface" (level set class, background +sdf range) and "weight" (background 0).
     openvdb::FloatGrid::Ptr surfaceGrid() const;
     openvdb::FloatGrid::Ptr weightGrid() const;
     /// "truncation": at every active voxel the eps of its 8^3 block after the last scan that

@@ -37,7 +37,7 @@ public:
     ~Context();
 
     /// The output folder (exists; a tile's folder in tiled runs). Stages write their files
-    /// below it (DATA.md layout).
+    /// below it (docs/DATA.md layout).
     const std::filesystem::path& outputDir() const { return output_dir_; }
     /// Writes `content` to outputDir() / relative_path atomically (folders created). Throws
     /// InvalidInput for an absolute path or one with "..", IoError on write errors.

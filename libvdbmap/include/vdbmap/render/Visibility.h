@@ -43,7 +43,7 @@ struct FaceObservation {
     float area_px = 0;    ///< projected area, pixels^2
     float cos_angle = 0;  ///< cosine between face normal and direction to the camera
     float depth_m = 0;    ///< camera-z of the centroid
-    std::array<Eigen::Vector2f, 3> pixels;  ///< projected corners (DATA.md pixel convention)
+    std::array<Eigen::Vector2f, 3> pixels;  ///< projected corners (docs/DATA.md pixel convention)
 };
 
 /// Face -> views in CSR form: the observations of face f are obs[offsets[f] .. offsets[f+1]),

@@ -18,7 +18,7 @@ double vignettingGain(const std::array<double, 3>& abc, double u, double v, doub
 
 void applyVignettingAndExposure(cv::Mat& image_bgr, const ImagingOptions& options,
                                 double exposure) {
-    // Image centre in the DATA.md pixel convention (pixel centres at integers).
+    // Image centre in the docs/DATA.md pixel convention (pixel centres at integers).
     const double cx = (image_bgr.cols - 1) / 2.0;
     const double cy = (image_bgr.rows - 1) / 2.0;
     for (int y = 0; y < image_bgr.rows; ++y) {

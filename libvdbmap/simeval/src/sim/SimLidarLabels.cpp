@@ -11,7 +11,7 @@
 namespace vdbmap {
 
 std::uint16_t semanticKittiId(std::uint8_t our_id) {
-    // DATA.md ids 0..20 -> SemanticKITTI (semantic-kitti.yaml `labels`).
+    // docs/DATA.md ids 0..20 -> SemanticKITTI (semantic-kitti.yaml `labels`).
     static constexpr std::uint16_t kTable[21] = {
         40,  // road
         48,  // sidewalk

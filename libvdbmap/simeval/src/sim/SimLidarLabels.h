@@ -25,7 +25,7 @@ struct SimLidarLabelOptions {
     int boundary_px = 0;
 };
 
-/// SemanticKITTI's raw id for a class of the default label set (DATA.md). Classes without a
+/// SemanticKITTI's raw id for a class of the default label set (docs/DATA.md). Classes without a
 /// SemanticKITTI counterpart take the nearest one (traffic light -> traffic-sign 81, sky and
 /// 255 -> unlabeled 0, wall -> other-structure 52).
 std::uint16_t semanticKittiId(std::uint8_t our_id);

@@ -29,9 +29,10 @@ std::string rigDatasetYaml(const std::vector<RigCamera>& rig, const Isometry3d& 
                            const std::string& scans_dir, const std::string& labels_dir) {
     std::string text =
         "# SPDX-License-Identifier: Apache-2.0\n"
-        "# Written by vdbmap-sim: the dataset section of this generic-layout sequence (DATA.md).\n"
-        "# Use it as is (`vdbmap eval --dataset` reads it; relative paths are relative to this\n"
-        "# file), or copy it into a pipeline and point `path` at this folder.\n"
+        "# Written by vdbmap-sim: the dataset section of this generic-layout sequence\n"
+        "# (docs/DATA.md of vdbmap). Use it as is (`vdbmap eval --dataset` reads it; relative\n"
+        "# paths are relative to this file), or copy it into a pipeline and point `path` at\n"
+        "# this folder.\n"
         "dataset:\n"
         "  format: generic\n"
         "  path: .\n"

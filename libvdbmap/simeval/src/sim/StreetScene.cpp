@@ -11,7 +11,7 @@ namespace vdbmap {
 
 namespace {
 
-// Class ids of DATA.md.
+// Class ids of docs/DATA.md.
 constexpr std::uint8_t kRoad = 0, kSidewalk = 1, kBuilding = 2, kPole = 5, kSign = 7,
                        kVegetation = 8, kCar = 13, kLaneMarking = 19, kOtherObject = 20;
 

@@ -21,7 +21,7 @@ struct CoverageOptions {
 };
 
 /// For every surface point (with its unit normal), 1 if at least one view sees it: the point
-/// projects inside the image (DATA.md pixel convention), its depth is in
+/// projects inside the image (docs/DATA.md pixel convention), its depth is in
 /// [min_depth_m, max_depth_m], the camera ray meets the surface within max_view_angle_deg of
 /// its normal (either side: closed objects hide their back faces through the occlusion test,
 /// so the winding of the ground-truth faces does not matter), and

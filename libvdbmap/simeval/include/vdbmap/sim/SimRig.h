@@ -28,7 +28,7 @@ struct SurroundRigOptions {
 /// Four cameras looking front (yaw 0), left (+90 deg), rear (180 deg) and right (-90 deg),
 /// level (optical axis horizontal), with square pixels: fx = fy = (width_px / 2) /
 /// tan(hfov_deg / 2), principal point at the image centre ((width_px - 1) / 2,
-/// (height_px - 1) / 2) in the DATA.md pixel convention. Camera frame C (OpenCV): z along the
+/// (height_px - 1) / 2) in the docs/DATA.md pixel convention. Camera frame C (OpenCV): z along the
 /// optical axis, x to the right in the image, y down; the optical centre is at
 /// (mount_radius_m cos(yaw), mount_radius_m sin(yaw), mount_height_m) in V. With 4 x 100 deg
 /// the neighbouring frusta overlap beyond ~1.6 m from the vehicle. Throws InvalidInput for a

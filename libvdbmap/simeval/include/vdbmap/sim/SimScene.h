@@ -14,7 +14,7 @@
 namespace vdbmap {
 
 /// A ground-truth scene of the simulator: a textured triangle mesh (world frame, metres) with a
-/// class id per face (DATA.md label set). Materials carry a BGR8 texture; UVs follow the OBJ
+/// class id per face (docs/DATA.md label set). Materials carry a BGR8 texture; UVs follow the OBJ
 /// convention (v up) and repeat outside [0, 1].
 struct SimScene {
     ObjMesh mesh;                            ///< positions, UVs, triangles, materials

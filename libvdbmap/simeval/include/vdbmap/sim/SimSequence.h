@@ -55,7 +55,7 @@ CameraIntrinsics kittiLikeIntrinsics();
 
 /// Simulates a sequence and writes it into `out_dir`, plus vignetting.txt, exposure.txt and
 /// gt/ (mesh.ply with face labels, textured/mesh.obj, observed_points.ply, views/).
-/// rig "kitti": the KITTI layout of DATA.md (velodyne/, calib.txt, poses.txt, times.txt,
+/// rig "kitti": the KITTI layout of docs/DATA.md (velodyne/, calib.txt, poses.txt, times.txt,
 /// image_k/, semantic_k/). rig "surround": the generic layout (scans/*.bin, poses.txt with
 /// the LiDAR poses T_W_L as KITTI 3x4 lines, times.txt, image_<name>/, semantic_<name>/,
 /// calib_<name>.txt with K:, D:, T: lines, and dataset.yaml: the `dataset:` section that
