@@ -14,6 +14,7 @@
 #include "StagedDir.h"
 #include "vdbmap/Error.h"
 #include "vdbmap/core/Log.h"
+#include "vdbmap/sim/SimLayout.h"
 #include "vdbmap/sim/SimSequence.h"
 
 namespace fs = std::filesystem;
@@ -55,6 +56,7 @@ struct CliExtras {
     bool no_lidar_labels = false;
     std::string lidar_label_ids = "semantickitti";
     bool no_images = false;
+    vdbmap::SimLayoutOptions layout;  // --layout, --sequence
 };
 
 void addOptions(CLI::App& app, vdbmap::SimOptions& options, CliExtras& cli) {
@@ -99,6 +101,13 @@ void addOptions(CLI::App& app, vdbmap::SimOptions& options, CliExtras& cli) {
                    "Jitter of LiDAR label class boundaries in range-image pixels")
         ->check(CLI::Range(0, 50));
     app.add_flag("--no-images", cli.no_images, "Write LiDAR and ground truth only");
+    app.add_option("--layout", cli.layout.layout,
+                   "Folder layout (docs/DATA.md): sequence (default), kitti-odometry, "
+                   "semantic-kitti or kitti360, as those datasets are downloaded")
+        ->check(CLI::IsMember(vdbmap::simLayoutNames()));
+    app.add_option("--sequence", cli.layout.sequence,
+                   "Sequence number of the KITTI layouts (default 00) or the KITTI-360 drive "
+                   "(default 2013_05_28_drive_0000_sync)");
     app.add_option("--gt-views", options.gt_views, "Held-out ground-truth views (gt/views)");
     app.add_option("--assets", cli.assets,
                    "Folder with spot_triangulated.obj + spot_texture.png (default: search "
@@ -125,7 +134,7 @@ void findAssets(vdbmap::SimOptions& options, const std::string& assets) {
 void simulate(vdbmap::SimOptions& options, const CliExtras& cli) {
     findAssets(options, cli.assets);
     vdbmap::sim::StagedDir staged(cli.out_dir);
-    const vdbmap::SimSummary s = vdbmap::writeSimSequence(options, staged.path());
+    const vdbmap::SimSummary s = vdbmap::writeSimLayout(options, cli.layout, staged.path());
     staged.commit();
     if (!options.quiet) {
         std::cout << "wrote " << cli.out_dir << ": " << s.frames << " frames, " << s.points

@@ -169,9 +169,9 @@ TEST_CASE("DatasetConfig declares every option with a doc", "[io][dataset]") {
         keys.insert(info.key);
     }
     for (const char* key :
-         {"format", "path", "min_range_m", "max_range_m", "first_frame", "num_frames", "stride",
-          "cameras", "scans_dir", "poses_file", "pose_format", "image_dir", "semantic_dir",
-          "intrinsics", "distortion", "T_C_L", "calib_file", "labels_file"}) {
+         {"format", "path", "drive", "min_range_m", "max_range_m", "first_frame", "num_frames",
+          "stride", "cameras", "scans_dir", "poses_file", "pose_format", "image_dir",
+          "semantic_dir", "intrinsics", "distortion", "T_C_L", "calib_file", "labels_file"}) {
         CHECK(keys.count(key) == 1);
     }
     CHECK(spec.find("min_range_m")->unit == "m");

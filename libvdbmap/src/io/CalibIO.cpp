@@ -5,55 +5,58 @@
 #include <cstdio>
 #include <sstream>
 
+#include "io/CalibLines.h"
 #include "io/FileUtil.h"
 #include "vdbmap/Error.h"
 #include "vdbmap/io/AtomicFile.h"
 
 namespace vdbmap {
-namespace {
+namespace detail {
 
-/// One "key: numbers" line of a calibration file.
-struct CalibLine {
-    std::string key;
-    std::vector<double> values;
-    std::size_t line_number = 0;
-    std::string text;
-};
-
-std::vector<CalibLine> readCalibLines(const std::filesystem::path& path) {
-    const std::string text = detail::readWholeFile(path);
+std::vector<CalibLine> readCalibLines(const std::filesystem::path& path, CalibText mode) {
+    const std::string text = readWholeFile(path);
     std::istringstream lines(text);
     std::string line;
     std::size_t line_number = 0;
     std::vector<CalibLine> result;
     while (std::getline(lines, line)) {
         ++line_number;
-        const std::string_view content = detail::trim(line);
+        const std::string_view content = trim(line);
         if (content.empty() || content.front() == '#') continue;
         const std::size_t colon = content.find(':');
         CalibLine entry;
         entry.line_number = line_number;
         entry.text = std::string(content.substr(0, 160));
         if (colon == std::string_view::npos || colon == 0) {
-            throw IoError(detail::fileLine(path, line_number) +
+            throw IoError(fileLine(path, line_number) +
                           ": malformed calibration line (expected 'KEY: numbers'): '" + entry.text +
                           "'");
         }
-        entry.key = std::string(detail::trim(content.substr(0, colon)));
-        if (!detail::parseDoubles(detail::splitWhitespace(content.substr(colon + 1)), 0,
-                                  entry.values)) {
-            throw IoError(detail::fileLine(path, line_number) + ": calibration '" + entry.key +
-                          "' has a value that is not a number: '" + entry.text + "'");
+        entry.key = std::string(trim(content.substr(0, colon)));
+        if (!parseDoubles(splitWhitespace(content.substr(colon + 1)), 0, entry.values)) {
+            if (mode == CalibText::Strict) {
+                throw IoError(fileLine(path, line_number) + ": calibration '" + entry.key +
+                              "' has a value that is not a number: '" + entry.text + "'");
+            }
+            entry.numeric = false;
+            entry.values.clear();
         }
         for (const double v : entry.values) {
             if (!std::isfinite(v)) {
-                throw IoError(detail::fileLine(path, line_number) + ": calibration '" + entry.key +
+                throw IoError(fileLine(path, line_number) + ": calibration '" + entry.key +
                               "' has a non-finite value");
             }
         }
         result.push_back(std::move(entry));
     }
     return result;
+}
+
+const CalibLine* findCalibLine(const std::vector<CalibLine>& lines, const std::string& key) {
+    for (const CalibLine& line : lines) {
+        if (line.key == key) return &line;
+    }
+    return nullptr;
 }
 
 Mat34d toMat34(const std::vector<double>& v) {
@@ -66,17 +69,26 @@ Mat34d toMat34(const std::vector<double>& v) {
 
 void requireCount(const std::filesystem::path& path, const CalibLine& line,
                   std::initializer_list<std::size_t> counts) {
+    if (!line.numeric) {
+        throw IoError(fileLine(path, line.line_number) + ": calibration '" + line.key +
+                      "' has a value that is not a number: '" + line.text + "'");
+    }
     for (const std::size_t c : counts) {
         if (line.values.size() == c) return;
     }
     std::string expected;
     for (const std::size_t c : counts)
         expected += (expected.empty() ? "" : " or ") + std::to_string(c);
-    throw IoError(detail::fileLine(path, line.line_number) + ": calibration '" + line.key +
-                  "' needs " + expected + " numbers, got " + std::to_string(line.values.size()));
+    throw IoError(fileLine(path, line.line_number) + ": calibration '" + line.key + "' needs " +
+                  expected + " numbers, got " + std::to_string(line.values.size()));
 }
 
-}  // namespace
+}  // namespace detail
+
+using detail::CalibLine;
+using detail::readCalibLines;
+using detail::requireCount;
+using detail::toMat34;
 
 Isometry3d isometryFromRowMajor(const std::vector<double>& values, const std::string& what) {
     if (values.size() != 12 && values.size() != 16) {
@@ -162,23 +174,30 @@ void writeCameraCalib(const std::filesystem::path& path, const CameraCalib& cali
     writeFileAtomically(path, text);
 }
 
+CameraIntrinsics intrinsicsOfProjection(const Mat34d& P, const std::string& what) {
+    const Mat3d K = P.leftCols<3>();
+    if (!(K(0, 0) > 0) || !(K(1, 1) > 0) || std::abs(K(0, 1)) > 1e-9 || std::abs(K(1, 0)) > 1e-9 ||
+        std::abs(K(2, 0)) > 1e-9 || std::abs(K(2, 1)) > 1e-9 || std::abs(K(2, 2) - 1.0) > 1e-9) {
+        throw InvalidInput(what +
+                           ": projection matrix is not K [I | t] with K upper triangular, no "
+                           "skew, positive focal lengths and K(2,2) = 1");
+    }
+    CameraIntrinsics intrinsics;
+    intrinsics.fx = K(0, 0);
+    intrinsics.fy = K(1, 1);
+    intrinsics.cx = K(0, 2);
+    intrinsics.cy = K(1, 2);
+    return intrinsics;
+}
+
 Camera kittiCamera(const Mat34d& P_k, const Isometry3d& Tr, const std::string& image_folder,
                    const std::string& semantic_folder) {
-    const Mat3d K = P_k.leftCols<3>();
-    if (!(K(0, 0) > 0) || !(K(1, 1) > 0) || std::abs(K(1, 0)) > 1e-9 || std::abs(K(2, 0)) > 1e-9 ||
-        std::abs(K(2, 1)) > 1e-9 || std::abs(K(2, 2) - 1.0) > 1e-9) {
-        throw InvalidInput("camera " + image_folder +
-                           ": projection matrix is not K [I | t] with K upper triangular, "
-                           "positive focal lengths and K(2,2) = 1");
-    }
     Camera camera;
     camera.name = image_folder;
     camera.semantic_name = semantic_folder;
-    camera.intrinsics.fx = K(0, 0);
-    camera.intrinsics.fy = K(1, 1);
-    camera.intrinsics.cx = K(0, 2);
-    camera.intrinsics.cy = K(1, 2);
+    camera.intrinsics = intrinsicsOfProjection(P_k, "camera " + image_folder);
     // docs/DATA.md: P_k = K_k [I | t_k]  =>  t_k = K_k^-1 P_k[:,3], T_Ck_C0 = [I | t_k].
+    const Mat3d K = P_k.leftCols<3>();
     const Vec3d t_k = K.triangularView<Eigen::Upper>().solve(Vec3d(P_k.col(3)));
     Isometry3d T_Ck_C0 = Isometry3d::Identity();
     T_Ck_C0.translation() = t_k;

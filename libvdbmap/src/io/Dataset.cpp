@@ -72,18 +72,26 @@ std::shared_ptr<Dataset> Dataset::open(const DatasetConfig& config,
                           std::to_string(config.min_range_m) + ", max_range_m " +
                           std::to_string(config.max_range_m));
     }
+    if (!config.drive.empty() && config.format != "kitti360") {
+        throw ConfigError("dataset: option 'drive' is for format 'kitti360', not '" +
+                          config.format + "'");
+    }
     dataset->root_ = DatasetBuilder::resolve(base_dir, config.path);
     DatasetBuilder::requireFolder(dataset->root_, "dataset");
     if (config.format == "kitti") {
         DatasetBuilder::openKitti(*dataset);
+    } else if (config.format == "kitti360") {
+        DatasetBuilder::openKitti360(*dataset);
     } else if (config.format == "generic") {
         DatasetBuilder::openGeneric(*dataset);
     } else {
-        throw ConfigError("dataset: option 'format' must be 'kitti' or 'generic', got '" +
-                          config.format + "'");
+        throw ConfigError(
+            "dataset: option 'format' must be 'kitti', 'kitti360' or 'generic', got '" +
+            config.format + "'");
     }
     DatasetBuilder::findImages(*dataset);
     DatasetBuilder::findLidarLabels(*dataset);
+    logInfo("dataset: poses from " + dataset->poses_path_.string());
     return dataset;
 }
 

@@ -2,6 +2,7 @@
 #include "io/DatasetBuilder.h"
 
 #include <algorithm>
+#include <cctype>
 
 #include "vdbmap/Error.h"
 #include "vdbmap/core/Log.h"
@@ -23,6 +24,14 @@ std::filesystem::path findView(const std::filesystem::path& folder, const std::s
 }
 
 }  // namespace
+
+long long DatasetBuilder::frameNumber(const std::string& stem) {
+    if (stem.empty() || stem.size() > 12) return -1;
+    for (const char c : stem) {
+        if (!std::isdigit(static_cast<unsigned char>(c))) return -1;
+    }
+    return std::stoll(stem);
+}
 
 std::filesystem::path DatasetBuilder::resolve(const std::filesystem::path& base,
                                               const std::string& relative) {

@@ -10,11 +10,14 @@
 
 namespace vdbmap {
 
-/// Fills a Dataset from one of the two layouts of docs/DATA.md (friend of Dataset).
+/// Fills a Dataset from one of the layouts of docs/DATA.md (friend of Dataset).
 class DatasetBuilder {
 public:
     /// KITTI odometry layout: velodyne/, calib.txt, poses.txt, times.txt, image_k/, semantic_k/.
     static void openKitti(Dataset& dataset);
+    /// KITTI-360 drive: data_3d_raw/<drive>/velodyne_points, data_poses/<drive>/poses.txt,
+    /// calibration/, data_2d_raw/<drive>/image_00|01/data_rect (DatasetKitti360.cpp).
+    static void openKitti360(Dataset& dataset);
     /// Generic layout: scans_dir, poses_file (kitti | tum), and no camera, the one camera of the
     /// top-level keys, or the rig of `cameras:` (DatasetConfig::rig).
     static void openGeneric(Dataset& dataset);
@@ -32,6 +35,9 @@ public:
     /// The LiDAR label folder: `labels_dir` (must exist), else KITTI's SEQ/labels if present.
     static void findLidarLabels(Dataset& dataset);
 
+    /// The frame number of a zero-padded file stem ("000042" -> 42), or -1 if it is not all
+    /// digits (at most 12).
+    static long long frameNumber(const std::string& stem);
     /// `relative` resolved against `base` (unchanged if absolute or base is empty).
     static std::filesystem::path resolve(const std::filesystem::path& base,
                                          const std::string& relative);

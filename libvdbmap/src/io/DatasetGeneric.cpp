@@ -124,7 +124,9 @@ void DatasetBuilder::openGeneric(Dataset& dataset) {
     const std::filesystem::path& root = dataset.root_;
     const std::filesystem::path scans_dir = resolve(root, config.scans_dir);
     const std::vector<std::filesystem::path> scans = listScans(scans_dir, "scans");
-    const std::filesystem::path poses_path = resolve(root, config.poses_file);
+    const std::filesystem::path poses_path =
+        resolve(root, config.poses_file.empty() ? "poses.txt" : config.poses_file);
+    dataset.poses_path_ = poses_path;
     std::vector<StampedPose> poses;
     if (config.pose_format == "kitti") {
         for (const Isometry3d& T : readKittiPoses(poses_path)) poses.push_back({0.0, T});

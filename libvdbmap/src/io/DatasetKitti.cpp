@@ -1,5 +1,4 @@
 // SPDX-License-Identifier: Apache-2.0
-#include <cctype>
 #include <sstream>
 
 #include "io/DatasetBuilder.h"
@@ -10,15 +9,6 @@
 
 namespace vdbmap {
 namespace {
-
-/// The frame number of a zero-padded stem ("000042" -> 42), or -1 if it is not all digits.
-long long frameNumber(const std::string& stem) {
-    if (stem.empty() || stem.size() > 12) return -1;
-    for (const char c : stem) {
-        if (!std::isdigit(static_cast<unsigned char>(c))) return -1;
-    }
-    return std::stoll(stem);
-}
 
 std::vector<double> readTimes(const std::filesystem::path& path) {
     const std::string text = detail::readWholeFile(path);
@@ -40,6 +30,32 @@ std::vector<double> readTimes(const std::filesystem::path& path) {
     return times;
 }
 
+/// The poses file of a KITTI sequence `root`: `poses_file` (relative to root) if set, else
+/// SEQ/poses.txt (SemanticKITTI, our simulator), else where the odometry download keeps it:
+/// dataset/poses/NN.txt next to dataset/sequences/NN. Throws IoError naming the places tried.
+std::filesystem::path kittiPosesPath(const std::filesystem::path& root,
+                                     const std::string& poses_file) {
+    std::error_code ec;
+    if (!poses_file.empty()) {
+        const std::filesystem::path path = DatasetBuilder::resolve(root, poses_file);
+        if (!std::filesystem::is_regular_file(path, ec)) {
+            throw IoError("dataset: poses_file not found: " + path.string());
+        }
+        return path;
+    }
+    const std::filesystem::path in_sequence = root / "poses.txt";
+    if (std::filesystem::is_regular_file(in_sequence, ec)) return in_sequence;
+    std::filesystem::path sequence = std::filesystem::absolute(root, ec).lexically_normal();
+    if (sequence.filename().empty()) sequence = sequence.parent_path();  // "sequences/00/"
+    const std::filesystem::path download =
+        sequence.parent_path().parent_path() / "poses" / (sequence.filename().string() + ".txt");
+    if (std::filesystem::is_regular_file(download, ec)) return download;
+    throw IoError("KITTI poses not found: neither " + in_sequence.string() + " nor " +
+                  download.string() +
+                  " (the odometry download's dataset/poses/NN.txt) exists; set "
+                  "dataset.poses_file to the camera-0 poses of this sequence");
+}
+
 }  // namespace
 
 void DatasetBuilder::openKitti(Dataset& dataset) {
@@ -53,8 +69,9 @@ void DatasetBuilder::openKitti(Dataset& dataset) {
     }
     const std::vector<std::filesystem::path> scans = listScans(root / "velodyne", "KITTI velodyne");
     const KittiCalib calib = readKittiCalib(root / "calib.txt");
-    const std::filesystem::path poses_path = root / "poses.txt";
+    const std::filesystem::path poses_path = kittiPosesPath(root, dataset.config_.poses_file);
     const std::vector<Isometry3d> poses_C0 = readKittiPoses(poses_path);
+    dataset.poses_path_ = poses_path;
     std::vector<double> times;
     const std::filesystem::path times_path = root / "times.txt";
     std::error_code ec;

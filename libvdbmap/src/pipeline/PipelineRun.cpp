@@ -6,6 +6,7 @@
 #include <system_error>
 
 #include "io/OutputLock.h"
+#include "pipeline/DatasetReport.h"
 #include "pipeline/MapGather.h"
 #include "pipeline/PipelineImpl.h"
 #include "pipeline/TileStream.h"
@@ -250,6 +251,7 @@ private:
         pipeline_.checkLayers(detail::datasetLayers(*dataset));
         report_.set({"counts", "frames"}, dataset->numFrames());
         report_.set({"counts", "cameras"}, dataset->cameras().size());
+        detail::reportDataset(report_, *dataset);
         // docs/DATA.md: a missing image or semantic file is no error, but the run reports it.
         report_.set({"counts", "missing_images"}, dataset->missingImages());
         report_.set({"counts", "missing_semantic_images"}, dataset->missingSemantics());

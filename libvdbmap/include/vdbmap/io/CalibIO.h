@@ -31,10 +31,15 @@ KittiCalib readKittiCalib(const std::filesystem::path& path);
 /// Writes a KITTI calib.txt (P0..P3 that are set, then Tr), atomically. Throws IoError.
 void writeKittiCalib(const std::filesystem::path& path, const KittiCalib& calib);
 
+/// The pinhole intrinsics (width/height 0) of the left 3x3 block K of a rectified projection
+/// matrix P = K [I | t]. Throws InvalidInput naming `what` unless K is upper triangular with
+/// positive focal lengths, no skew and K(2,2) = 1.
+CameraIntrinsics intrinsicsOfProjection(const Mat34d& P, const std::string& what);
+
 /// Camera k of a KITTI sequence (docs/DATA.md): P_k = K_k [I | t_k], so t_k = K_k^-1 P_k[:,3],
 /// T_Ck_C0 = [I | t_k] and T_Ck_L = T_Ck_C0 * Tr. Width/height are left 0 (read from the
 /// images). Throws InvalidInput if the left 3x3 block of P_k is not an upper-triangular K with
-/// positive focal lengths.
+/// positive focal lengths and no skew (intrinsicsOfProjection).
 Camera kittiCamera(const Mat34d& P_k, const Isometry3d& Tr, const std::string& image_folder,
                    const std::string& semantic_folder = "");
 

@@ -19,31 +19,43 @@ class LabelSet;
 
 /// The `dataset:` section of a pipeline (docs/DATA.md). Declared through an OptionSpec so that the
 /// YAML checks and `vdbmap describe dataset` work as for stages.
-/// Relative `path` and `labels_file` resolve against the YAML file's folder; the generic
-/// layout's scans_dir, poses_file, image_dir, semantic_dir and calib_file (also those of each
+/// Relative `path` and `labels_file` resolve against the YAML file's folder; poses_file, the
+/// generic layout's scans_dir, image_dir, semantic_dir and calib_file (also those of each
 /// `cameras:` entry) against `path`.
 ///
 /// Cameras of the generic layout: either one camera given by the top-level keys image_dir,
 /// semantic_dir, intrinsics, distortion, T_C_L / calib_file, or a rig given by `cameras:` as a
 /// list of maps (DatasetCameraConfig, bound into `rig`). In YAML the key `cameras` is a list of
-/// folder names for the KITTI layout and a list of maps for the generic layout.
+/// folder names for the KITTI and KITTI-360 layouts and a list of maps for the generic layout.
 struct DatasetConfig {
-    std::string format = "kitti";  ///< "kitti" (KITTI odometry layout) or "generic"
-    std::string path;              ///< sequence folder (relative paths: relative to the YAML file)
+    /// "kitti" (KITTI odometry / SemanticKITTI sequence), "kitti360" (a KITTI-360 drive) or
+    /// "generic"
+    std::string format = "kitti";
+    /// The sequence folder; for "kitti360" the KITTI-360 root (the folder holding calibration/,
+    /// data_3d_raw/ ...). Relative paths: relative to the YAML file.
+    std::string path;
+    /// kitti360: the drive, e.g. "2013_05_28_drive_0000_sync" ("" = the only drive in
+    /// data_3d_raw/).
+    std::string drive;
     double min_range_m = 1.0;      ///< points closer to the sensor are dropped and counted
     double max_range_m = 200.0;    ///< points further away (absurd ranges) are dropped
     int first_frame = 0;
     int num_frames = -1;  ///< -1 = all
     int stride = 1;
-    std::vector<std::string>
-        cameras;  ///< KITTI: camera folders to use; empty = image_2, image_3 if present
+    /// KITTI: camera folders to use (empty = image_2, image_3 if present); kitti360: image_00,
+    /// image_01 (empty = those with a data_rect folder).
+    std::vector<std::string> cameras;
     /// Generic: the cameras of a rig (YAML `cameras:` as a list of maps); empty = the single
     /// camera of the top-level keys below (or none). Setting both is a ConfigError.
     std::vector<DatasetCameraConfig> rig;
     // generic layout
-    std::string scans_dir = "scans";       ///< .bin / .pcd / .ply files, sorted by name
-    std::string poses_file = "poses.txt";  ///< sensor (LiDAR) poses T_W_L
-    std::string pose_format = "kitti";     ///< "kitti" (3x4 lines) or "tum"
+    std::string scans_dir = "scans";  ///< .bin / .pcd / .ply files, sorted by name
+    /// The poses, relative to `path`. Generic: LiDAR poses T_W_L ("" = poses.txt). KITTI:
+    /// camera-0 poses T_W_C0 ("" = SEQ/poses.txt, else the odometry download's
+    /// SEQ/../../poses/<SEQ>.txt). kitti360: IMU poses T_W_IMU with frame numbers ("" =
+    /// data_poses/<drive>/poses.txt).
+    std::string poses_file;
+    std::string pose_format = "kitti";     ///< generic: "kitti" (3x4 lines) or "tum"
     std::string image_dir;                 ///< generic: the one camera's image folder ("" = none)
     std::string semantic_dir;              ///< generic: its semantic id images ("" = none)
     std::vector<double> intrinsics;        ///< generic: fx fy cx cy
@@ -51,8 +63,9 @@ struct DatasetConfig {
     std::vector<double> T_C_L;             ///< generic: 12 (3x4) or 16 (4x4) row-major
     std::string calib_file;   ///< generic: K/D/T file; replaces intrinsics, distortion, T_C_L
     std::string labels_file;  ///< label set "id, name, r g b" ("" = docs/DATA.md default)
-    /// Per-point LiDAR labels (SemanticKITTI .label, one per scan, same stem). Generic: the
-    /// folder ("" = none); KITTI: SEQ/labels/ when present (this key overrides the folder).
+    /// Per-point LiDAR labels (SemanticKITTI .label, one per scan, same stem). Generic and
+    /// kitti360: the folder ("" = none); KITTI: SEQ/labels/ when present (this key overrides
+    /// the folder).
     std::string labels_dir;
 
     /// Declares every field (key = field name) with its doc, default and unit. `rig` is not a
@@ -85,16 +98,19 @@ struct FrameInfo {
 
 /// A sequence: frames with poses, cameras with calibration, and lazily read scans and images.
 /// KITTI frames follow docs/DATA.md exactly: T_W_L = T_W_C0 * Tr, and camera k has
-/// T_Ck_L = [I | t_k] * Tr with P_k = K_k [I | t_k].
+/// T_Ck_L = [I | t_k] * Tr with P_k = K_k [I | t_k]. KITTI-360 frames: T_W_L = T_W_IMU *
+/// T_IMU_C0 * T_C0_L, and the rectified camera k has T_Rk_L = R_rect_k * T_IMU_Ck^-1 *
+/// T_IMU_C0 * T_C0_L (Kitti360.h).
 class Dataset {
 public:
     /// Opens and validates the layout (folders, calib, poses vs. scans). Throws IoError naming
-    /// the file and the problem (missing folder, malformed calib line, fewer poses than scans).
-    /// Relative `config.path` is resolved against `base_dir`.
+    /// the file and the problem (missing folder, malformed calib line, fewer poses than scans),
+    /// ConfigError for bad options. Logs which poses file it read. Relative `config.path` is
+    /// resolved against `base_dir`.
     static std::shared_ptr<Dataset> open(const DatasetConfig& config,
                                          const std::filesystem::path& base_dir = {});
 
-    /// The configuration it was opened with.
+    /// The configuration it was opened with (kitti360: `drive` set to the drive read).
     const DatasetConfig& config() const { return config_; }
     /// The sequence folder (absolute or as given, after resolution against base_dir).
     const std::filesystem::path& root() const { return root_; }
@@ -104,6 +120,11 @@ public:
     const FrameInfo& frame(std::size_t i) const { return frames_.at(i); }
     /// Cameras that have at least one image (cameras without images are dropped with a warning).
     const std::vector<Camera>& cameras() const { return cameras_; }
+    /// The poses file that was read (the KITTI layout looks in two places).
+    const std::filesystem::path& posesPath() const { return poses_path_; }
+    /// Scans skipped because the poses file has no pose for them (KITTI-360 has poses only for
+    /// some frames), before first_frame / num_frames / stride; 0 for the other layouts.
+    std::size_t framesWithoutPose() const { return frames_without_pose_; }
 
     /// Reads the scan of frame i in the LiDAR frame, dropping non-finite points and points
     /// outside [min_range_m, max_range_m] (counted in `stats`). Throws IoError (truncated .bin,
@@ -148,6 +169,8 @@ private:
     std::vector<std::filesystem::path> semantic_dirs_;  // per camera ("" = none)
     std::filesystem::path base_dir_;                    // folder of the YAML file
     std::filesystem::path lidar_labels_dir_;            // "" = no LiDAR labels
+    std::filesystem::path poses_path_;                  // the poses file read
+    std::size_t frames_without_pose_ = 0;               // scans skipped for lack of a pose
     // [frame][camera]: the file found for that view, empty if missing.
     std::vector<std::vector<std::filesystem::path>> image_paths_;
     std::vector<std::vector<std::filesystem::path>> semantic_paths_;

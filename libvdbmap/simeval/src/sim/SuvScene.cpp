@@ -8,9 +8,9 @@ namespace vdbmap {
 
 namespace {
 
-constexpr std::uint8_t kRoad = 0, kCar = 13;
+constexpr std::uint8_t kSuvGroundClass = 0, kSuvClass = 13;
 
-Isometry3d translation(double x, double y, double z) {
+Isometry3d suvOffset(double x, double y, double z) {
     Isometry3d T = Isometry3d::Identity();
     T.translation() = Vec3d(x, y, z);
     return T;
@@ -33,29 +33,29 @@ SceneSetup buildSuvScene(const SuvSceneOptions& options) {
         for (int j = -5; j < 5; ++j) {
             const float x0 = 4.0f * i, y0 = 4.0f * j;
             s.addQuad({x0, y0, 0}, {x0 + 4, y0, 0}, {x0 + 4, y0 + 4, 0}, {x0, y0 + 4, 0}, 4.0f,
-                      ground, kRoad);
+                      ground, kSuvGroundClass);
         }
     }
     // SUV (about 4.8 m x 1.95 m x 1.85 m): body, cabin, bumpers, tilted bonnet, four wheels.
-    s.addBox(translation(0, 0, 0.8), Vec3f(2.4f, 0.975f, 0.45f), 2.0f, paint, kCar);
-    s.addBox(translation(-0.35, 0, 1.55), Vec3f(1.6f, 0.9f, 0.3f), 2.0f, glass, kCar);
-    s.addBox(translation(2.45, 0, 0.55), Vec3f(0.1f, 0.9f, 0.15f), 1.0f, paint, kCar);
-    s.addBox(translation(-2.45, 0, 0.55), Vec3f(0.1f, 0.9f, 0.15f), 1.0f, paint, kCar);
-    Isometry3d roof_rack = translation(-0.35, 0, 1.88);
-    s.addBox(roof_rack, Vec3f(1.2f, 0.7f, 0.03f), 1.0f, paint, kCar);
+    s.addBox(suvOffset(0, 0, 0.8), Vec3f(2.4f, 0.975f, 0.45f), 2.0f, paint, kSuvClass);
+    s.addBox(suvOffset(-0.35, 0, 1.55), Vec3f(1.6f, 0.9f, 0.3f), 2.0f, glass, kSuvClass);
+    s.addBox(suvOffset(2.45, 0, 0.55), Vec3f(0.1f, 0.9f, 0.15f), 1.0f, paint, kSuvClass);
+    s.addBox(suvOffset(-2.45, 0, 0.55), Vec3f(0.1f, 0.9f, 0.15f), 1.0f, paint, kSuvClass);
+    Isometry3d roof_rack = suvOffset(-0.35, 0, 1.88);
+    s.addBox(roof_rack, Vec3f(1.2f, 0.7f, 0.03f), 1.0f, paint, kSuvClass);
     for (float dx : {-1.5f, 1.5f}) {
         for (float y_centre : {-0.98f, 0.98f}) {
             // Rotated +90 deg about x, the cylinder axis runs along -y from its base.
-            Isometry3d T = translation(dx, y_centre + 0.14, 0.38);
+            Isometry3d T = suvOffset(dx, y_centre + 0.14, 0.38);
             T.linear() = Eigen::AngleAxisd(M_PI / 2, Vec3d::UnitX()).toRotationMatrix();
-            s.addCylinder(T, 0.38f, 0.28f, 20, 1.0f, tyre, kCar);
+            s.addCylinder(T, 0.38f, 0.28f, 20, 1.0f, tyre, kSuvClass);
         }
     }
     // Counter-clockwise circle, heading along the tangent: 10 Hz.
     const double dtheta = options.speed_mps / 10.0 / options.circle_radius_m;
     for (std::size_t f = 0; f < options.frames; ++f) {
         const double th = dtheta * static_cast<double>(f);
-        Isometry3d T = translation(options.circle_radius_m * std::cos(th),
+        Isometry3d T = suvOffset(options.circle_radius_m * std::cos(th),
                                    options.circle_radius_m * std::sin(th), 0.0);
         T.linear() = Eigen::AngleAxisd(th + M_PI / 2, Vec3d::UnitZ()).toRotationMatrix();
         setup.T_S_V.push_back(T);
