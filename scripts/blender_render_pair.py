@@ -16,17 +16,20 @@ import bpy
 import numpy as np
 from mathutils import Matrix, Vector
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from blender_render_setup import render_png  # noqa: E402
+
 argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
 p = argparse.ArgumentParser()
 p.add_argument("left")
 p.add_argument("right")
 p.add_argument("out")
-p.add_argument("--eye", type=float, nargs=3, default=[0.0, -14.0, -12.0])
-p.add_argument("--target", type=float, nargs=3, default=[0.0, 1.0, 14.0])
+p.add_argument("--eye", type=float, nargs=3, default=[5.0, -8.0, -5.0])
+p.add_argument("--target", type=float, nargs=3, default=[-1.0, 2.5, 14.0])
 p.add_argument("--up", type=float, nargs=3, default=[0.0, -1.0, 0.0])
-p.add_argument("--lens", type=float, default=24.0, help="focal length, mm (36 mm sensor)")
-p.add_argument("--size", type=int, nargs=2, default=[800, 600], help="of each half, px")
-p.add_argument("--samples", type=int, default=32)
+p.add_argument("--lens", type=float, default=22.0, help="focal length, mm (36 mm sensor)")
+p.add_argument("--size", type=int, nargs=2, default=[640, 400], help="of each half, px")
+p.add_argument("--samples", type=int, default=48)
 p.add_argument("--gap", type=int, default=8, help="white pixels between the halves")
 a = p.parse_args(argv)
 
@@ -58,21 +61,8 @@ def render(mesh, path):
     scene.collection.objects.link(cam)
     cam.matrix_world = look_at(Vector(a.eye), Vector(a.target), Vector(a.up).normalized())
     scene.camera = cam
-    world = bpy.data.worlds.new("world")
-    world.use_nodes = True
-    world.node_tree.nodes["Background"].inputs["Strength"].default_value = 1.0
-    world.node_tree.nodes["Background"].inputs["Color"].default_value = (1, 1, 1, 1)
-    scene.world = world
     scene.view_settings.view_transform = "Standard"  # colours as they are, not Filmic's
-    scene.render.engine = "CYCLES"
-    scene.cycles.device = "CPU"
-    scene.cycles.samples = a.samples
-    scene.cycles.use_denoising = False
-    scene.render.resolution_x, scene.render.resolution_y = a.size
-    scene.render.resolution_percentage = 100
-    scene.render.filepath = path
-    scene.render.image_settings.file_format = "PNG"
-    bpy.ops.render.render(write_still=True)
+    render_png(scene, path, a.size, a.samples)
 
 
 with tempfile.TemporaryDirectory() as tmp:
