@@ -25,7 +25,7 @@ for ((rep = 1; rep <= runs; ++rep)); do
         read -r lo hi <<< "$range"
         for threads in 2 1; do
             for merge in auto none; do
-                "$build/bin/vdbmap" run "$root/config/atsdf_street.yaml" -o "$out/run" \
+                "$build/bin/vdbmap" run "$root/config/experiments/truncation.yaml" -o "$out/run" \
                     --set dataset.path="$seq" --set integrate.atsdf.truncation_min_m="$lo" \
                     --set integrate.atsdf.truncation_max_m="$hi" \
                     --set integrate.atsdf.merge_points="$merge" --threads "$threads" --quiet

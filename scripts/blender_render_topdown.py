@@ -7,10 +7,14 @@
 # Coordinates are the OBJ's own (imported without axis conversion): vdbmap's world is KITTI
 # camera 0 at frame 0, so up is -y and the car drives along +z.
 import argparse
+import os
 import sys
 
 import bpy
 from mathutils import Matrix, Vector
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from blender_render_setup import render_png  # noqa: E402
 
 argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
 p = argparse.ArgumentParser()
@@ -49,19 +53,5 @@ cam.matrix_world = Matrix((
     (0.0, 0.0, 0.0, 1.0)))
 scene.camera = cam
 
-world = bpy.data.worlds.new("world")
-world.use_nodes = True
-world.node_tree.nodes["Background"].inputs["Strength"].default_value = 1.0
-world.node_tree.nodes["Background"].inputs["Color"].default_value = (1, 1, 1, 1)
-scene.world = world
-
-scene.render.engine = "CYCLES"
-scene.cycles.device = "CPU"
-scene.cycles.samples = a.samples
-scene.cycles.use_denoising = False
-scene.render.resolution_x, scene.render.resolution_y = a.size
-scene.render.resolution_percentage = 100
-scene.render.filepath = a.out
-scene.render.image_settings.file_format = "PNG"
-bpy.ops.render.render(write_still=True)
+render_png(scene, a.out, a.size, a.samples)
 print("blender_render_topdown: wrote", a.out)

@@ -10,7 +10,7 @@ cd "$root"
 
 "$root/scripts/build.sh"
 
-seq_dir=out/demo/seq
+seq_dir=out/sim/demo
 run_dir=out/demo/run
 if [ -f "$seq_dir/poses.txt" ] && [ -d "$seq_dir/velodyne" ] && [ -d "$seq_dir/labels" ]; then
     echo "demo: reusing the simulated sequence in $seq_dir"
@@ -37,6 +37,7 @@ print("frames %s, active voxels %s, mesh %s vertices / %s faces, peak memory %.0
 for t in r.get("timings", {}).get("stages", []):
     print("  %-22s %8.2f s" % (t["stage"], t["wall_time_s"]))
 PY
+echo "sequence:  $seq_dir   (simulated, ground truth in $seq_dir/gt)"
 echo "map:       $run_dir/map.vdb   (vdbmap info $run_dir/map.vdb)"
 echo "mesh:      $run_dir/mesh.ply"
 echo "textured:  $run_dir/textured/mesh.obj"

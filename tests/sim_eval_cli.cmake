@@ -17,11 +17,11 @@ if(TARGET vdbmap_sim AND TARGET vdbmap_app)
 '$<TARGET_FILE:vdbmap_app>' eval --gt '${_seq}/gt' --run '${_run}' --json '${_run}/eval.json' \
 --tau 0.05 && grep -q '\"fscore\": 1.0' '${_run}/eval.json'")
     set_tests_properties(eval_cli_gt_against_itself PROPERTIES DEPENDS sim_cli_street_tiny)
-    # `vdbmap run` on config/atsdf_street.yaml: with a 1-scan working set the second scan moves
+    # `vdbmap run` on config/experiments/truncation.yaml: with a 1-scan working set the second scan moves
     # leaves to the compact store; the map at rest keeps the issue's <= 16 B per active voxel.
     set(_atsdf_run ${CMAKE_CURRENT_BINARY_DIR}/sim_eval_cli/atsdf_run)
     add_test(NAME atsdf_cli_run_compact_map
-        COMMAND sh -c "'$<TARGET_FILE:vdbmap_app>' run '${PROJECT_SOURCE_DIR}/config/atsdf_street.yaml' --set dataset.path='${_seq}' --set integrate.atsdf.working_set_scans=1 -o '${_atsdf_run}' --quiet && test -s '${_atsdf_run}/map.vdb' && test -s '${_atsdf_run}/mesh.ply' && python3 -c \"import json, sys; s = json.load(open(sys.argv[1]))['stages']['integrate.atsdf']; assert s['leaves_retired'] > 0, s; assert 0 < s['bytes_per_active_voxel'] <= 16.0, s\" '${_atsdf_run}/report.json'")
+        COMMAND sh -c "'$<TARGET_FILE:vdbmap_app>' run '${PROJECT_SOURCE_DIR}/config/experiments/truncation.yaml' --set dataset.path='${_seq}' --set integrate.atsdf.working_set_scans=1 -o '${_atsdf_run}' --quiet && test -s '${_atsdf_run}/map.vdb' && test -s '${_atsdf_run}/mesh.ply' && python3 -c \"import json, sys; s = json.load(open(sys.argv[1]))['stages']['integrate.atsdf']; assert s['leaves_retired'] > 0, s; assert 0 < s['bytes_per_active_voxel'] <= 16.0, s\" '${_atsdf_run}/report.json'")
     set_tests_properties(atsdf_cli_run_compact_map PROPERTIES DEPENDS sim_cli_street_tiny)
     # The surround rig: a generic-layout sequence whose dataset.yaml gives eval the cameras of
     # the camera-seen area (found next to gt/, or named with --dataset and --set).

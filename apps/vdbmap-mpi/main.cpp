@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // `vdbmap-mpi run CONFIG.yaml ...`: the `vdbmap run` of a tiled pipeline as one process of an
 // MPI job (mpirun -np N vdbmap-mpi run ..., or srun on a cluster). The tiles are spread over
-// the ranks; rank 0 writes map.vdb, tiles.json and report.json (README: tiled runs).
+// the ranks; rank 0 writes map.vdb, tiles.json and report.json (docs/tiling.md).
 #include <mpi.h>
 
 #include <CLI/CLI.hpp>

@@ -113,8 +113,8 @@ int describe(const DescribeArgs& args) {
         std::cout << "tiling  [pipeline section `tiling:`]\n"
                   << "  Square ground tiles: the stages from the first one that reads or writes the\n"
                   << "  mesh run once per tile, on its mesh plus a halo, into tiles/<ix>_<iy>/;\n"
-                  << "  tiles.json indexes them (README: tiled outputs). A tile smaller than one\n"
-                  << "  voxel leaf (8 voxels) or a negative halo is a config error.\n";
+                  << "  tiles.json indexes them (docs/tiling.md). A tile smaller than one voxel\n"
+                  << "  leaf (8 voxels) or a negative halo is a config error.\n";
         printSpec(spec);
         std::cout << "  e.g.\n    tiling: {tile_size_m: 64, halo_m: 4, max_view_distance_m: 40}\n";
         return 0;

@@ -7,11 +7,11 @@
 # recall@10 cm). Prints one line per run (docs/results/geometry.md).
 # Usage: scripts/experiments/truncation.sh
 #   env: BUILD, OUT, FRAMES=50, RUNS="0.10:0.4:0.8 0.10:0.1:0.3 0.05:0.2:0.4", SCENE=street,
-#        TAU=0.05,0.1, CONFIG=config/atsdf_street.yaml, EVAL_ARGS (e.g. "--cutoff 0.3"),
+#        TAU=0.05,0.1, CONFIG=config/experiments/truncation.yaml, EVAL_ARGS (e.g. "--cutoff 0.3"),
 #        MODES="adaptive paper fixed vdbfusion" (the rows to run),
 #        SET (extra --set options of every vdbmap run, e.g.
 #        "integrate.atsdf.grazing_band_both_sides=true"; the adaptive row is named after them)
-# SUV: SCENE=suv FRAMES=40 RUNS=0.025:0.1:0.3 TAU=0.02,0.05 CONFIG=config/suv_adaptive.yaml
+# SUV: SCENE=suv FRAMES=40 RUNS=0.025:0.1:0.3 TAU=0.02,0.05 CONFIG=config/experiments/suv.yaml
 #      EVAL_ARGS="--cutoff 0.3 --sample-spacing 0.01" scripts/experiments/truncation.sh
 set -euo pipefail
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
@@ -21,7 +21,7 @@ FRAMES=${FRAMES:-50}
 SCENE=${SCENE:-street}
 RUNS=${RUNS:-"0.10:0.4:0.8 0.10:0.1:0.3 0.05:0.2:0.4"}
 TAU=${TAU:-0.05,0.1}
-CONFIG=${CONFIG:-$ROOT/config/atsdf_street.yaml}
+CONFIG=${CONFIG:-$ROOT/config/experiments/truncation.yaml}
 EVAL_ARGS=${EVAL_ARGS:-}
 MODES=${MODES:-"adaptive paper fixed vdbfusion"}
 SET=${SET:-}

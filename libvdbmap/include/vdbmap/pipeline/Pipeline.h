@@ -118,7 +118,7 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
-/// Process exit code for an error (documented in the README): ConfigError and PluginError ->
+/// Process exit code for an error (documented in docs/pipelines.md): ConfigError and PluginError ->
 /// 2 (usage or configuration), any other exception -> 1 (runtime or input).
 int exitCodeFor(const std::exception& error);
 
