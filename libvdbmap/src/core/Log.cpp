@@ -5,6 +5,8 @@
 #include <spdlog/spdlog.h>
 
 #include <atomic>
+#include <mutex>
+#include <utility>
 
 namespace vdbmap {
 namespace {
@@ -20,6 +22,19 @@ spdlog::logger& logger() {
         return l;
     }();
     return *instance;
+}
+
+std::mutex g_sink_mutex;
+LogSink g_sink;            ///< guarded by g_sink_mutex
+std::atomic<bool> g_has_sink{false};
+
+/// Sends a message to the sink; false if there is none (the caller logs to stderr).
+bool toSink(LogLevel level, const std::string& message) {
+    if (!g_has_sink.load()) return false;
+    std::lock_guard<std::mutex> lock(g_sink_mutex);
+    if (!g_sink) return false;
+    g_sink(level, message);
+    return true;
 }
 
 bool enabled(LogLevel level) {
@@ -38,17 +53,23 @@ void setLogPrefix(const std::string& prefix) {
 }
 LogLevel logLevel() { return g_level.load(); }
 
+void setLogSink(LogSink sink) {
+    std::lock_guard<std::mutex> lock(g_sink_mutex);
+    g_sink = std::move(sink);
+    g_has_sink.store(static_cast<bool>(g_sink));
+}
+
 void logDebug(const std::string& message) {
-    if (enabled(LogLevel::Debug)) logger().debug(message);
+    if (enabled(LogLevel::Debug) && !toSink(LogLevel::Debug, message)) logger().debug(message);
 }
 void logInfo(const std::string& message) {
-    if (enabled(LogLevel::Info)) logger().info(message);
+    if (enabled(LogLevel::Info) && !toSink(LogLevel::Info, message)) logger().info(message);
 }
 void logWarn(const std::string& message) {
-    if (enabled(LogLevel::Warn)) logger().warn(message);
+    if (enabled(LogLevel::Warn) && !toSink(LogLevel::Warn, message)) logger().warn(message);
 }
 void logError(const std::string& message) {
-    if (enabled(LogLevel::Error)) logger().error(message);
+    if (enabled(LogLevel::Error) && !toSink(LogLevel::Error, message)) logger().error(message);
 }
 
 }  // namespace vdbmap

@@ -237,13 +237,12 @@ bool AtsdfIntegrator::usesRings() const {
     return tp.mode == TruncationMode::Adaptive && tp.grazing_band_to_next_ring;
 }
 
-IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points_L,
-                                                const Isometry3d& T_W_L) {
+IntegrationStats AtsdfIntegrator::integrateScan(PointSpan points_L, const Isometry3d& T_W_L) {
     return integrateScan(points_L, T_W_L, usesRings() ? RingSpacing::estimate(points_L) : RingSpacing{});
 }
 
-IntegrationStats AtsdfIntegrator::integrateScan(const std::vector<Vec3f>& points_L,
-                                                const Isometry3d& T_W_L, const RingSpacing& rings) {
+IntegrationStats AtsdfIntegrator::integrateScan(PointSpan points_L, const Isometry3d& T_W_L,
+                                                const RingSpacing& rings) {
     std::vector<Vec3f>& points_W = scratch_->points_W;
     points_W.resize(points_L.size());
     const Eigen::Isometry3f T = T_W_L.cast<float>();

@@ -63,7 +63,7 @@ RingSpacing RingSpacing::fromElevations(std::vector<double> elevations_rad) {
     return rs;
 }
 
-RingSpacing RingSpacing::estimate(const std::vector<Vec3f>& points_L, std::size_t stride) {
+RingSpacing RingSpacing::estimate(PointSpan points_L, std::size_t stride) {
     // Phase 1: histogram of sin(elevation) of every stride-th point.
     std::vector<std::uint32_t> count(kBins, 0);
     std::vector<double> sum(kBins, 0.0);

@@ -271,6 +271,8 @@ public:
         logInfo(os.str());
     }
 
+    AtsdfStageSettings settings() const { return {voxel_size_m_, config_}; }
+
 private:
     double voxel_size_m_ = 0.10;
     std::string truncation_mode_;
@@ -348,6 +350,14 @@ private:
 };
 
 }  // namespace
+
+AtsdfStageSettings atsdfStageSettings(const Stage& stage) {
+    const auto* atsdf = dynamic_cast<const IntegrateAtsdfStage*>(&stage);
+    if (atsdf == nullptr)
+        throw InvalidInput("atsdfStageSettings: stage '" + std::string(stage.name()) +
+                           "' is not integrate.atsdf");
+    return atsdf->settings();
+}
 
 void registerTsdfStages(StageRegistry& registry) {
     registry.add<IntegrateAtsdfStage>();

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 
+#include <functional>
 #include <string>
 
 namespace vdbmap {
@@ -14,6 +15,12 @@ LogLevel logLevel();
 /// Text put in front of every message (after the level), e.g. "rank 2: " in the processes of
 /// a distributed run. '%' is not allowed (spdlog pattern syntax) and is dropped.
 void setLogPrefix(const std::string& prefix);
+
+/// Where log lines go instead of stderr: `sink(level, message)` for every message that passes
+/// the level (called from any thread, one call at a time). An empty function restores stderr.
+/// The Python module sends them to Python's `logging`.
+using LogSink = std::function<void(LogLevel, const std::string&)>;
+void setLogSink(LogSink sink);
 
 /// Thread-safe log lines to stderr, prefixed with the level.
 void logDebug(const std::string& message);

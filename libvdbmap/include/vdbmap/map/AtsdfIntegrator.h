@@ -141,10 +141,10 @@ public:
     /// a no-op (counted). Never throws on bad points (they are counted in the stats).
     IntegrationStats integrateScan(const std::vector<Vec3f>& points_W, const Vec3d& origin_W);
     /// Same with points in the LiDAR frame and the pose T_W_L.
-    IntegrationStats integrateScan(const std::vector<Vec3f>& points_L, const Isometry3d& T_W_L);
+    IntegrationStats integrateScan(PointSpan points_L, const Isometry3d& T_W_L);
     /// Same with the scan's rings estimated already (RingSpacing::estimate(points_L)), e.g. by
     /// the reader of the scan while the scan before was integrated.
-    IntegrationStats integrateScan(const std::vector<Vec3f>& points_L, const Isometry3d& T_W_L,
+    IntegrationStats integrateScan(PointSpan points_L, const Isometry3d& T_W_L,
                                    const RingSpacing& rings);
     /// True if integrateScan in the LiDAR frame uses the scan's rings (the adaptive mode's
     /// grazing_band_to_next_ring).

@@ -32,7 +32,7 @@ public:
     /// multi-beam sensor, or one whose lasers sit off its origin, as a real HDL-64's: their
     /// elevations seen from the origin change with range), or when more than half the bins
     /// between the lowest and the highest point hold one (no empty space between rings).
-    static RingSpacing estimate(const std::vector<Vec3f>& points_L, std::size_t stride = 4);
+    static RingSpacing estimate(PointSpan points_L, std::size_t stride = 4);
     /// From known ring elevations (radians, any order), e.g. a sensor's calibration.
     static RingSpacing fromElevations(std::vector<double> elevations_rad);
 
