@@ -15,7 +15,7 @@ PACKAGES=(
     libspdlog-dev libfmt-dev libcli11-dev nlohmann-json3-dev
     liblzf-dev
     openmpi-bin libopenmpi-dev
-    pybind11-dev python3-dev python3-numpy python3-pytest python3-open3d
+    pybind11-dev python3-dev python3-numpy python3-pytest python3-open3d xvfb xauth
     "$@"
 )
 
