@@ -9,6 +9,7 @@
 #include <sstream>
 #include <utility>
 
+#include "pipeline/ContextBuilder.h"
 #include "vdbmap/core/Log.h"
 #include "vdbmap/core/Progress.h"
 #include "vdbmap/core/Timer.h"
@@ -168,7 +169,7 @@ public:
         // Streamed tiled runs finish tiles from this map while the scans come in; a scan
         // changes it at most maxUpdateReach past a point, plus the block statistics a point
         // reads (its block and their 26 neighbours: within 3.5 leaves of the point).
-        ctx.setMap(map);
+        ContextBuilder::setMap(ctx, map);
         const double leaf_m = 8.0 * voxel_size_m_;
         const std::vector<std::size_t> frames =
             ctx.beginScanStream(maxUpdateReach(resolved_, voxel_size_m_) + 4.0 * leaf_m);
