@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <tbb/global_control.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "Commands.h"
@@ -24,7 +26,35 @@ struct RunArgs {
     bool check_only = false;
 };
 
+/// The number of processes an MPI launcher started this one among: OMPI_COMM_WORLD_SIZE
+/// (Open MPI's mpirun) or PMI_SIZE (MPICH's and Intel MPI's), and the variable that said so;
+/// {1, ""} outside mpirun.
+std::pair<long, std::string> launcherWorldSize() {
+    for (const char* var : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"}) {
+        const char* value = std::getenv(var);
+        if (value == nullptr) continue;
+        char* end = nullptr;
+        const long n = std::strtol(value, &end, 10);
+        if (end != value && *end == '\0' && n > 1) return {n, var};
+    }
+    return {1, ""};
+}
+
+/// `mpirun -np N vdbmap run` would start N independent full runs on one output folder (all but
+/// one die on its lock): stop before anything runs and name the distributed command.
+void refuseMpiLaunch() {
+    const auto [size, var] = launcherWorldSize();
+    if (size <= 1) return;
+    throw vdbmap::ConfigError(
+        "vdbmap run: started by an MPI launcher as one of " + std::to_string(size) +
+        " processes (" + var + "=" + std::to_string(size) +
+        "); each would run the whole pipeline. For a distributed run use `mpirun -np " +
+        std::to_string(size) + " vdbmap-mpi run CONFIG` (docs/tiling.md); run `vdbmap run` "
+        "without mpirun for a single process");
+}
+
 int runPipeline(const RunArgs& args, vdbmap::ProcessGroup* group) {
+    if (group == nullptr) refuseMpiLaunch();
     // Processes other than 0 of a distributed run report only warnings and errors.
     const bool quiet = args.quiet || (group != nullptr && group->rank() != 0);
     if (quiet) vdbmap::setLogLevel(vdbmap::LogLevel::Warn);

@@ -137,9 +137,8 @@ TileFillWidening fillFromWiderTile(
     // The wider context: the occluder mesh as the mesh, the grown tile, nothing written.
     const TriMesh& occluders = ctx.occluderMesh();
     Report scratch;
-    std::unique_ptr<Context> wide =
-        ctx.tileContext(ctx.outputDir(), scratch,
-                        widerTile(tile, occluders, ctx.hasDataset() ? &ctx.dataset() : nullptr));
+    std::unique_ptr<Context> wide = ctx.regionContext(
+        widerTile(tile, occluders, ctx.hasDataset() ? &ctx.dataset() : nullptr), scratch);
     auto wide_mesh = std::make_shared<TriMesh>(occluders);
     wide->setMesh(wide_mesh);
     const std::vector<std::uint8_t> wide_labels = label(*wide);

@@ -180,3 +180,19 @@ TEST_CASE("mpirun with more ranks than tiles warns and still writes every tile",
     CHECK(readText(single / "tiles.json") == readText(mpi / "tiles.json"));
     CHECK(filesBelow(single / "tiles") == filesBelow(mpi / "tiles"));
 }
+
+TEST_CASE("mpirun -np 2 vdbmap run stops at once, naming vdbmap-mpi run", "[mpi]") {
+    const fs::path seq = sequence();
+    const fs::path config = writeConfig(workDir() / "plain.yaml", seq, 12.8);
+    const fs::path out = workDir() / "vdbmap_under_mpirun";
+    fs::remove_all(out);
+    Child two(VDBMAP_MPIEXEC,
+              {"--oversubscribe", "-np", "2", test::kVdbmapExe.string(), "run", config.string(),
+               "-o", out.string(), "--quiet"},
+              mpiEnv());
+    const int code = two.exitCode();
+    INFO(two.log());
+    CHECK(code == 2);
+    CHECK(two.log().find("vdbmap-mpi run") != std::string::npos);
+    CHECK_FALSE(fs::exists(out));
+}

@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "support/PlainAtsdfConfig.h"
 #include "vdbmap/map/AtsdfIntegrator.h"
 #include "vdbmap/map/VoxelMap.h"
 #include "vdbmap/mesh/MarchingCubes.h"
@@ -97,7 +98,7 @@ inline PatchScore scoreGroundPatch(TruncationMode mode, double eps_min_m, double
                                    const std::map<GroundCellKey, GroundCell>& patch,
                                    int merge_divisions = 0, double voxel_m = 0.1) {
     VoxelMap map(voxel_m, static_cast<float>(eps_max_m), 1000.0f);
-    AtsdfConfig c;
+    AtsdfConfig c = plainAtsdfConfig();
     c.max_weight = 1000.0;
     c.truncation.mode = mode;
     c.truncation.min_m = eps_min_m;

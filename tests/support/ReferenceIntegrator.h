@@ -31,7 +31,8 @@ public:
         double eps = 0.0;
     };
 
-    ReferenceIntegrator(double voxel_m, const AtsdfConfig& config) : vs_(voxel_m), c_(config) {}
+    ReferenceIntegrator(double voxel_m, const AtsdfConfig& config)
+        : vs_(voxel_m), c_(resolveAtsdfConfig(config, voxel_m)) {}
 
     void integrateScan(const std::vector<Vec3f>& points_L, const Isometry3d& T_W_L) {
         const Vec3d sensor = T_W_L.translation();

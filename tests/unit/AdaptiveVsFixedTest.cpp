@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "support/MapTestUtil.h"
+#include "support/PlainAtsdfConfig.h"
 #include "support/SimLidar.h"
 #include "vdbmap/map/AtsdfIntegrator.h"
 #include "vdbmap/map/VoxelMap.h"
@@ -46,7 +47,7 @@ Quality run(TruncationMode mode, double eps_min, double eps_max) {
     lidar.azimuth_steps = 1024;
     lidar.noise_sigma_m = 0.01;
     VoxelMap map(kVoxel, static_cast<float>(eps_max), 1000.0f);
-    AtsdfConfig c;
+    AtsdfConfig c = plainAtsdfConfig();
     c.truncation.mode = mode;
     c.truncation.min_m = eps_min;
     c.truncation.max_m = eps_max;

@@ -2,6 +2,7 @@
 #include <catch2/catch.hpp>
 
 #include "support/MapTestUtil.h"
+#include "support/PlainAtsdfConfig.h"
 #include "support/SimLidar.h"
 #include "vdbmap/map/AtsdfIntegrator.h"
 #include "vdbmap/map/VoxelMap.h"
@@ -21,7 +22,7 @@ std::shared_ptr<TriMesh> scanAndMesh(const SimScene& scene, const Vec3d& centre,
     lidar.elevation_max_deg = 20.0;
     lidar.noise_sigma_m = 0.002;
     VoxelMap map(vs, 0.15f);
-    AtsdfConfig c;
+    AtsdfConfig c = plainAtsdfConfig();
     c.truncation.min_m = 2 * vs;
     c.truncation.max_m = 3 * vs;
     AtsdfIntegrator integrator(map, c);

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "support/MapTestUtil.h"
+#include "support/PlainAtsdfConfig.h"
 #include "support/SimLidar.h"
 #include "vdbmap/Error.h"
 #include "vdbmap/map/AtsdfIntegrator.h"
@@ -17,7 +18,7 @@ using namespace vdbmap::test;
 
 TEST_CASE("Bad input is counted and skipped", "[tsdf][integrate]") {
     VoxelMap map(0.1, 0.3f);
-    AtsdfIntegrator integrator(map, AtsdfConfig{});
+    AtsdfIntegrator integrator(map, plainAtsdfConfig());
     const Vec3d origin(1, 2, 3);
     const float nan = std::numeric_limits<float>::quiet_NaN();
     const float inf = std::numeric_limits<float>::infinity();
@@ -49,14 +50,14 @@ TEST_CASE("Bad input is counted and skipped", "[tsdf][integrate]") {
 
 TEST_CASE("Bad configuration is rejected with the key name", "[tsdf][integrate]") {
     VoxelMap map(0.1);
-    AtsdfConfig c;
+    AtsdfConfig c = plainAtsdfConfig();
     c.weight_floor = 0.0;
     CHECK_THROWS_WITH(AtsdfIntegrator(map, c), Catch::Contains("weight_floor"));
-    AtsdfConfig ws;
+    AtsdfConfig ws = plainAtsdfConfig();
     ws.working_set_scans = 0;
     CHECK_THROWS_WITH(AtsdfIntegrator(map, ws),
                       Catch::Contains("working_set_scans") && Catch::Contains("got 0"));
-    AtsdfConfig merge;
+    AtsdfConfig merge = plainAtsdfConfig();
     merge.merge_divisions = 3;
     CHECK_THROWS_WITH(AtsdfIntegrator(map, merge),
                       Catch::Contains("merge_divisions") && Catch::Contains("got 3"));
@@ -76,7 +77,7 @@ TEST_CASE("Plane at a non-voxel-aligned offset: SDF and mesh match the closed fo
     for (int i = 0; i < 4; ++i) poses.push_back(poseAt(Vec3d(0.37 * i, 0.11 * i, 0.0)));
 
     VoxelMap map(vs, 0.3f);
-    AtsdfIntegrator integrator(map, AtsdfConfig{});
+    AtsdfIntegrator integrator(map, plainAtsdfConfig());
     const IntegrationStats s = integrateScans(integrator, scene, lidar, poses);
     REQUIRE(s.points_integrated > 20000);
 
@@ -130,7 +131,7 @@ TEST_CASE("Fixed mode runs through the same code path with eps_max everywhere",
     SimLidarConfig lidar;
     lidar.azimuth_steps = 512;
     VoxelMap map(0.1, 0.3f);
-    AtsdfConfig c;
+    AtsdfConfig c = plainAtsdfConfig();
     c.truncation.mode = TruncationMode::Fixed;
     AtsdfIntegrator integrator(map, c);
     integrateScans(integrator, scene, lidar, {poseAt(Vec3d::Zero())});
@@ -157,7 +158,7 @@ TEST_CASE("Space carving pushes previously observed voxels towards free space",
     lidar.beams = 32;
     auto run = [&](bool carve) {
         VoxelMap map(0.1, 0.3f);
-        AtsdfConfig c;
+        AtsdfConfig c = plainAtsdfConfig();
         c.space_carving = carve;
         AtsdfIntegrator integrator(map, c);
         integrateScans(integrator, with_wall, lidar, {poseAt(Vec3d::Zero())});
@@ -198,7 +199,7 @@ TEST_CASE("The band to the next ring stops where that ring lands off the surface
     };
     auto run = [&](bool next_ring, bool both_sides) {
         VoxelMap map(0.1, 0.3f);
-        AtsdfConfig c;
+        AtsdfConfig c = plainAtsdfConfig();
         c.truncation.min_m = 0.1;
         c.truncation.max_m = 0.3;
         c.truncation.max_along_ray_m = 1.0;  // lets the band behind reach g ~ 0.6 m here

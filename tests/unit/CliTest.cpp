@@ -31,10 +31,11 @@ fs::path writeFile(const std::string& name, const std::string& text) {
     return path;
 }
 
-/// Runs `vdbmap <args>` (stdout/stderr to a log file) and returns its exit status.
-int vdbmap(const std::string& args, std::string* output = nullptr) {
+/// Runs `vdbmap <args>` (stdout/stderr to a log file) and returns its exit status. `env`:
+/// further NAME=value assignments for the child only.
+int vdbmap(const std::string& args, std::string* output = nullptr, const std::string& env = "") {
     const fs::path log = workDir() / "log.txt";
-    const std::string cmd = "VDBMAP_PLUGIN_PATH='" + kPluginDir.string() + "' '" +
+    const std::string cmd = env + " VDBMAP_PLUGIN_PATH='" + kPluginDir.string() + "' '" +
                             kExe.string() + "' " + args + " > '" + log.string() + "' 2>&1 < /dev/null";
     const int status = std::system(cmd.c_str());
     std::ifstream in(log);
@@ -128,4 +129,26 @@ TEST_CASE("cli: runtime and input errors exit with 1", "[cli]") {
     std::ifstream in(out_dir / "report.json");
     REQUIRE(in.good());
     CHECK(nlohmann::json::parse(in)["status"]["exit_code"] == 1);
+}
+
+TEST_CASE("cli: vdbmap run started by mpirun with more than one rank stops at once", "[cli][mpi]") {
+    // mpirun -np 2 sets OMPI_COMM_WORLD_SIZE (Open MPI) or PMI_SIZE (MPICH) in every rank: two
+    // full runs would collide on one output folder. Set here in the child only.
+    const fs::path good = writeFile("mpi_good.yaml", kGood);
+    for (const std::string var : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"}) {
+        INFO(var);
+        const fs::path out = workDir() / ("mpi_out_" + var);
+        fs::remove_all(out);
+        std::string log;
+        CHECK(vdbmap("run '" + good.string() + "' -o '" + out.string() + "'", &log, var + "=2") == 2);
+        CHECK(log.find("vdbmap-mpi run") != std::string::npos);
+        CHECK(log.find(var + "=2") != std::string::npos);
+        CHECK_FALSE(fs::exists(out));  // nothing ran, not even the output lock
+    }
+    // One rank (mpirun -np 1) is an ordinary run.
+    const fs::path one = workDir() / "mpi_out_one";
+    fs::remove_all(one);
+    CHECK(vdbmap("run '" + good.string() + "' -o '" + one.string() + "' -q", nullptr,
+                 "OMPI_COMM_WORLD_SIZE=1") == 0);
+    CHECK(fs::exists(one / "report.json"));
 }

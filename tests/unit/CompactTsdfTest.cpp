@@ -7,6 +7,7 @@
 #include <random>
 
 #include "support/MapTestUtil.h"
+#include "support/PlainAtsdfConfig.h"
 #include "support/SimLidar.h"
 #include "vdbmap/map/AtsdfIntegrator.h"
 #include "vdbmap/map/CompactTsdf.h"
@@ -50,7 +51,7 @@ Drive drive(int working_set_scans, bool carving) {
     lidar.noise_sigma_m = 0.01;
     Drive d;
     d.map = std::make_unique<VoxelMap>(0.1, 0.3f);
-    AtsdfConfig c;
+    AtsdfConfig c = plainAtsdfConfig();
     c.working_set_scans = working_set_scans;
     c.space_carving = carving;
     AtsdfIntegrator integrator(*d.map, c);

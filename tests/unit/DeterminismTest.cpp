@@ -3,6 +3,7 @@
 #include <tbb/global_control.h>
 
 #include "support/MapTestUtil.h"
+#include "support/PlainAtsdfConfig.h"
 #include "support/SimLidar.h"
 #include "vdbmap/map/AtsdfIntegrator.h"
 #include "vdbmap/map/VoxelMap.h"
@@ -30,7 +31,7 @@ Result runWithThreads(int threads, TruncationMode mode) {
     lidar.noise_sigma_m = 0.01;
     Result r;
     r.map = std::make_unique<VoxelMap>(0.1, 0.3f);
-    AtsdfConfig c;
+    AtsdfConfig c = plainAtsdfConfig();
     c.truncation.mode = mode;
     AtsdfIntegrator integrator(*r.map, c);
     integrateScans(integrator, scene, lidar,

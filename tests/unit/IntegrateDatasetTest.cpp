@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "support/MapTestUtil.h"
+#include "support/PlainAtsdfConfig.h"
 #include "unit/IoTestUtil.h"
 #include "vdbmap/io/Dataset.h"
 #include "vdbmap/map/AtsdfIntegrator.h"
@@ -19,6 +20,7 @@
 #include "vdbmap/sim/SimSequence.h"
 
 using namespace vdbmap;
+using vdbmap::test::plainAtsdfConfig;
 using openvdb::Coord;
 
 namespace {
@@ -55,7 +57,7 @@ struct Run {
 Run integrate(const Dataset& dataset, const std::vector<std::size_t>& frames, bool read_ahead,
               bool by_hand = false) {
     VoxelMap map(0.1, 0.3f);
-    AtsdfConfig config;
+    AtsdfConfig config = plainAtsdfConfig();
     config.truncation.min_m = 0.1;
     config.truncation.max_m = 0.3;
     config.truncation.grazing_band_to_next_ring = true;
@@ -128,7 +130,7 @@ TEST_CASE("integrateDataset rethrows a read error after the scans before it", "[
         for (const bool read_ahead : {true, false}) {
             INFO(threads << " TBB threads, read ahead " << read_ahead);
             VoxelMap map(0.1, 0.3f);
-            AtsdfIntegrator integrator(map, AtsdfConfig{});
+            AtsdfIntegrator integrator(map, plainAtsdfConfig());
             std::vector<std::size_t> seen;
             arena.execute([&] {
                 CHECK_THROWS_AS(integrateDataset(

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "support/MapTestUtil.h"
+#include "support/PlainAtsdfConfig.h"
 #include "support/ReferenceIntegrator.h"
 #include "support/SimLidar.h"
 #include "vdbmap/map/AtsdfIntegrator.h"
@@ -38,7 +39,7 @@ const char* behindName(Behind behind) {
 }
 
 AtsdfConfig configFor(TruncationMode mode, Behind behind = Behind::Short, int merge_divisions = 0) {
-    AtsdfConfig c;
+    AtsdfConfig c = plainAtsdfConfig();
     c.merge_divisions = merge_divisions;
     c.truncation.mode = mode;
     c.truncation.grazing_band_both_sides = behind == Behind::BothSides;

@@ -4,10 +4,12 @@
 #include <limits>
 #include <string>
 
+#include "support/PlainAtsdfConfig.h"
 #include "vdbmap/Error.h"
 #include "vdbmap/map/Truncation.h"
 
 using namespace vdbmap;
+using vdbmap::test::plainTruncationParams;
 
 namespace {
 PlaneEstimate plane(double flatness) {
@@ -21,7 +23,7 @@ PlaneEstimate plane(double flatness) {
 
 TEST_CASE("Adaptive eps: a sparse flat block gets a larger eps than a dense or non-flat one",
           "[tsdf][truncation]") {
-    TruncationParams t;  // [0.10, 0.30] m, k = 1, n_ref = 100
+    TruncationParams t = plainTruncationParams();  // [0.10, 0.30] m, k = 1, n_ref = 100
     const double sparse_flat = truncationFor(t, plane(0.98), 60);
     const double dense_flat = truncationFor(t, plane(0.98), 600);
     const double sparse_curved = truncationFor(t, plane(0.30), 60);
@@ -35,7 +37,7 @@ TEST_CASE("Adaptive eps: a sparse flat block gets a larger eps than a dense or n
 }
 
 TEST_CASE("Eps stays within [eps_min, eps_max]", "[tsdf][truncation]") {
-    TruncationParams t;
+    TruncationParams t = plainTruncationParams();
     for (double n : {1.0, 5.0, 50.0, 1e3, 1e6})
         for (double f : {0.0, 0.3, 1.0}) {
             const double e = truncationFor(t, plane(f), n);
@@ -45,17 +47,17 @@ TEST_CASE("Eps stays within [eps_min, eps_max]", "[tsdf][truncation]") {
 }
 
 TEST_CASE("Degenerate blocks and fixed mode use eps_max", "[tsdf][truncation]") {
-    TruncationParams t;
+    TruncationParams t = plainTruncationParams();
     CHECK(truncationFor(t, PlaneEstimate{}, 3) == Approx(t.max_m));
     t.mode = TruncationMode::Fixed;
     CHECK(truncationFor(t, plane(0.0), 1e6) == Approx(t.max_m));
 }
 
 TEST_CASE("Truncation parameters are validated", "[tsdf][truncation]") {
-    TruncationParams t;
+    TruncationParams t = plainTruncationParams();
     t.min_m = 0.4;
     CHECK_THROWS_AS(validateTruncation(t, "integrate.atsdf"), ConfigError);
-    t = TruncationParams{};
+    t = plainTruncationParams();
     t.reference_points = 0.0;
     CHECK_THROWS_WITH(validateTruncation(t, "integrate.atsdf"),
                       Catch::Contains("reference_points") && Catch::Contains("integrate.atsdf"));
@@ -68,7 +70,7 @@ TEST_CASE("n_ref follows from a surface density and the block size", "[tsdf][tru
     // 0.025 m (0.2 m blocks), so the same density gives the same eps at any voxel size.
     CHECK(referencePointsForDensity(156.25, 0.10) == Approx(100.0));
     CHECK(referencePointsForDensity(156.25, 0.025) == Approx(6.25));
-    TruncationParams coarse, fine;
+    TruncationParams coarse = plainTruncationParams(), fine = plainTruncationParams();
     coarse.reference_points = referencePointsForDensity(156.25, 0.10);
     fine.reference_points = referencePointsForDensity(156.25, 0.025);
     // A flat surface sampled at 1000 points per m^2 in both grids.
@@ -78,7 +80,7 @@ TEST_CASE("n_ref follows from a surface density and the block size", "[tsdf][tru
 
 TEST_CASE("Adaptive band: at least b across a grazing surface, widened only in front",
           "[tsdf][truncation]") {
-    TruncationParams t;
+    TruncationParams t = plainTruncationParams();
     t.min_m = 0.4;
     t.max_m = 0.8;
     t.grazing_band_m = 0.2;  // 2 voxels of 0.1 m; L_max = eps_max = 0.8 m

@@ -6,11 +6,13 @@
 #include <cmath>
 #include <random>
 
+#include "support/PlainAtsdfConfig.h"
 #include "vdbmap/Error.h"
 #include "vdbmap/map/AtsdfIntegrator.h"
 #include "vdbmap/map/VoxelMap.h"
 
 using namespace vdbmap;
+using vdbmap::test::plainAtsdfConfig;
 
 TEST_CASE("Packed voxels round-trip within half a quantum", "[tsdf][codec]") {
     const TsdfCodec codec(0.3f, 100.0f);
@@ -58,7 +60,7 @@ TEST_CASE("Packed voxels clamp out-of-range values and keep positive weights obs
 
 TEST_CASE("The integrator refuses truncation or weight beyond the map's ranges", "[tsdf][codec]") {
     VoxelMap map(0.1, 0.3f, 100.0f);
-    AtsdfConfig c;
+    AtsdfConfig c = plainAtsdfConfig();
     c.truncation.max_m = 0.3;
     CHECK_NOTHROW(AtsdfIntegrator(map, c));
     c.truncation.max_m = 0.5;

@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "support/MapTestUtil.h"
+#include "support/PlainAtsdfConfig.h"
 #include "support/SimLidar.h"
 #include "vdbmap/Error.h"
 #include "vdbmap/map/AtsdfIntegrator.h"
@@ -22,7 +23,7 @@ namespace {
 void scanOnce(VoxelMap& map, const SimScene& scene, int azimuth_steps) {
     SimLidarConfig lidar;
     lidar.azimuth_steps = azimuth_steps;
-    AtsdfIntegrator integrator(map, AtsdfConfig{});
+    AtsdfIntegrator integrator(map, plainAtsdfConfig());
     integrateScans(integrator, scene, lidar, {poseAt(Vec3d::Zero())});
     integrator.finalize();
 }

@@ -180,13 +180,39 @@ IntegrationStats& IntegrationStats::operator+=(const IntegrationStats& o) {
     return *this;
 }
 
-void validateAtsdfConfig(const AtsdfConfig& c, const std::string& who) {
-    validateTruncation(c.truncation, who);
+AtsdfConfig resolveAtsdfConfig(const AtsdfConfig& config, double voxel_size_m) {
+    AtsdfConfig r = config;
+    r.truncation = resolveTruncation(config.truncation, voxel_size_m);
+    if (r.falloff_m == 0.0) r.falloff_m = r.falloff_voxels * voxel_size_m;
+    if (r.merge_divisions == kMergeAuto)
+        r.merge_divisions = r.truncation.mode == TruncationMode::Adaptive ? 1 : 0;
+    return r;
+}
+
+void validateAtsdfConfig(const AtsdfConfig& config, double voxel_size_m, const std::string& who) {
     auto bad = [&](const char* key, double value, const char* rule) {
         std::ostringstream os;
         os << who << ": option '" << key << "' must be " << rule << ", got " << value;
         throw ConfigError(os.str());
     };
+    // The given values first (0 = from voxels or from the density), named as the stage's keys.
+    const TruncationParams& t = config.truncation;
+    for (const auto& [key, value] : {std::pair<const char*, double>{"truncation_min_voxels", t.min_voxels},
+                                     {"truncation_max_voxels", t.max_voxels},
+                                     {"truncation_min_m", t.min_m},
+                                     {"truncation_max_m", t.max_m},
+                                     {"grazing_band_voxels", t.grazing_band_voxels},
+                                     {"reference_points", t.reference_points},
+                                     {"falloff_voxels", config.falloff_voxels}}) {
+        if (!(value >= 0.0) || !std::isfinite(value)) bad(key, value, "finite and >= 0");
+    }
+    if (!(t.reference_density_pts_m2 > 0.0) || !std::isfinite(t.reference_density_pts_m2))
+        bad("reference_density_pts_m2", t.reference_density_pts_m2, "finite and > 0");
+    if (config.merge_divisions < kMergeAuto || config.merge_divisions > 2)
+        bad("merge_divisions", config.merge_divisions, "-1 (auto), 0, 1 or 2");
+    // Then the values the integrator runs.
+    const AtsdfConfig c = resolveAtsdfConfig(config, voxel_size_m);
+    validateTruncation(c.truncation, who);
     if (c.min_points_for_pca < 3) bad("min_points_for_pca", c.min_points_for_pca, ">= 3");
     if (!(c.weight_floor > 0.0 && c.weight_floor <= 1.0))
         bad("weight_floor", c.weight_floor, "in (0, 1]");
@@ -200,20 +226,46 @@ void validateAtsdfConfig(const AtsdfConfig& c, const std::string& who) {
     if (!(c.min_range_m >= 0.0)) bad("min_range_m", c.min_range_m, ">= 0");
     if (!(c.max_range_m > c.min_range_m)) bad("max_range_m", c.max_range_m, "> min_range_m");
     if (c.working_set_scans < 1) bad("working_set_scans", c.working_set_scans, ">= 1");
-    if (c.merge_divisions < 0 || c.merge_divisions > 2) bad("merge_divisions", c.merge_divisions, "0, 1 or 2");
+}
+
+const char* mergePointsName(int merge_divisions) {
+    switch (merge_divisions) {
+        case 0: return "none";
+        case 1: return "voxel";
+        case 2: return "half_voxel";
+        default: return "auto";
+    }
+}
+
+int parseMergePoints(const std::string& text) {
+    if (text == "auto") return kMergeAuto;
+    if (text == "none") return 0;
+    if (text == "voxel") return 1;
+    if (text == "half_voxel") return 2;
+    throw ConfigError("merge_points must be auto, none, voxel or half_voxel, got '" + text + "'");
+}
+
+std::shared_ptr<VoxelMap> makeVoxelMap(const AtsdfConfig& config, double voxel_size_m) {
+    const AtsdfConfig r = resolveAtsdfConfig(config, voxel_size_m);
+    return std::make_shared<VoxelMap>(voxel_size_m, static_cast<float>(r.truncation.max_m),
+                                      static_cast<float>(r.max_weight));
 }
 
 double mergedRayFrontExtension(const AtsdfConfig& config, double voxel_size_m) {
-    return config.merge_divisions > 0 ? 0.5 * std::sqrt(3.0) * voxel_size_m / config.merge_divisions : 0.0;
+    const int s = resolveAtsdfConfig(config, voxel_size_m).merge_divisions;
+    return s > 0 ? 0.5 * std::sqrt(3.0) * voxel_size_m / s : 0.0;
 }
 
 double maxUpdateReach(const AtsdfConfig& config, double voxel_size_m) {
-    return maxHalfLength(config.truncation) + mergedRayFrontExtension(config, voxel_size_m);
+    return maxHalfLength(resolveAtsdfConfig(config, voxel_size_m).truncation) +
+           mergedRayFrontExtension(config, voxel_size_m);
 }
 
 AtsdfIntegrator::AtsdfIntegrator(VoxelMap& map, const AtsdfConfig& config)
-    : map_(map), config_(config), scratch_(std::make_unique<Scratch>(config.merge_divisions)) {
-    validateAtsdfConfig(config_, "integrate.atsdf");
+    : map_(map),
+      config_(resolveAtsdfConfig(config, map.voxelSize())),
+      scratch_(std::make_unique<Scratch>(config_.merge_divisions)) {
+    validateAtsdfConfig(config, map_.voxelSize(), "integrate.atsdf");
     // The packed voxels hold |D| <= sdf range and W <= weight range (vdbmap/map/TsdfVoxel.h).
     const TsdfCodec& codec = map_.codec();
     if (config_.truncation.max_m > static_cast<double>(codec.sdfRange()) * (1.0 + 1e-6)) {

@@ -44,6 +44,16 @@ void validateTruncation(const TruncationParams& p, const std::string& who) {
         bad("grazing_band_voxels", p.grazing_band_m, ">= 0");
 }
 
+TruncationParams resolveTruncation(const TruncationParams& params, double voxel_size_m) {
+    TruncationParams r = params;
+    if (r.max_m == 0.0) r.max_m = r.max_voxels * voxel_size_m;
+    if (r.min_m == 0.0) r.min_m = std::min(r.min_voxels * voxel_size_m, r.max_m);
+    if (r.grazing_band_m == 0.0) r.grazing_band_m = r.grazing_band_voxels * voxel_size_m;
+    if (r.reference_points == 0.0)
+        r.reference_points = referencePointsForDensity(r.reference_density_pts_m2, voxel_size_m);
+    return r;
+}
+
 double referencePointsForDensity(double density_pts_m2, double voxel_size_m) {
     const double block_m = 8.0 * voxel_size_m;
     return density_pts_m2 * block_m * block_m;

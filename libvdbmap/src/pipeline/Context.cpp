@@ -10,6 +10,7 @@
 #include "vdbmap/map/VoxelMap.h"
 #include "vdbmap/mesh/TileFaces.h"
 #include "vdbmap/pipeline/Tiling.h"
+#include "pipeline/ContextBuilder.h"
 #include "pipeline/ScanStream.h"
 
 namespace vdbmap {
@@ -58,13 +59,9 @@ const Tile& Context::tile() const {
     return *tile_;
 }
 
-std::unique_ptr<Context> Context::tileContext(std::filesystem::path tile_dir, Report& tile_report,
-                                              std::shared_ptr<const Tile> tile) {
-    auto out = std::make_unique<Context>(std::move(tile_dir), tile_report, quiet_);
-    out->dataset_ = dataset_;
-    out->map_ = map_;
-    out->tile_ = std::move(tile);
-    return out;
+std::unique_ptr<Context> Context::regionContext(std::shared_ptr<const Tile> tile,
+                                                Report& report) const {
+    return ContextBuilder::tileContext(*this, output_dir_, report, std::move(tile));
 }
 
 std::vector<View> Context::views(bool need_images, bool need_semantics) const {

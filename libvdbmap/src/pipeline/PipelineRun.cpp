@@ -7,6 +7,7 @@
 
 #include "io/OutputLock.h"
 #include "pipeline/DatasetReport.h"
+#include "pipeline/ContextBuilder.h"
 #include "pipeline/MapGather.h"
 #include "pipeline/PipelineImpl.h"
 #include "pipeline/TileStream.h"
@@ -260,7 +261,7 @@ private:
                         dataset->missingImages(cam));
         }
         report_.set({"timings", "dataset_open_s"}, timer.elapsedSeconds());
-        ctx_->setDataset(std::move(dataset));
+        ContextBuilder::setDataset(*ctx_, std::move(dataset));
     }
 
     void startTileStream(std::size_t first_tiled) {
@@ -276,7 +277,7 @@ private:
         setup.processes = group_.size();
         setup.tile_seconds = &tile_seconds_;
         stream_ = std::make_shared<TileStream>(setup);
-        ctx_->setScanStream(stream_);
+        ContextBuilder::setScanStream(*ctx_, stream_);
     }
 
     void mergeUntiled(std::size_t first_tiled) {
@@ -298,7 +299,7 @@ private:
             }
             report_.set({"tiling", "merged"}, true);
         }
-        ctx_->setScanStream(nullptr);
+        ContextBuilder::setScanStream(*ctx_, nullptr);
     }
 
     /// Phase 3: process 0 gathers the tiles and the map parts, writes map.vdb (and mesh.ply),

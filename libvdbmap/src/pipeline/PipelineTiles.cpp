@@ -6,6 +6,7 @@
 #include <system_error>
 #include <tuple>
 
+#include "pipeline/ContextBuilder.h"
 #include "pipeline/TileStream.h"
 #include "vdbmap/Error.h"
 #include "vdbmap/core/Log.h"
@@ -76,7 +77,7 @@ TileOutcome runTileStages(std::vector<PipelineStage>& stages, std::size_t first,
     out.ix = tile->ix;
     out.iy = tile->iy;
     {
-        std::unique_ptr<Context> tctx = ctx.tileContext(dir, tile_report, tile);
+        std::unique_ptr<Context> tctx = ContextBuilder::tileContext(ctx, dir, tile_report, tile);
         for (std::size_t i = first; i < stages.size(); ++i) {
             runStage(stages[i], i, stages.size(), *tctx, current, nullptr);
             // A tile with no surface of its own ends here (tiles are created on demand).

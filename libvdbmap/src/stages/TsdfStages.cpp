@@ -9,6 +9,7 @@
 #include <sstream>
 #include <utility>
 
+#include "pipeline/ContextBuilder.h"
 #include "vdbmap/core/Log.h"
 #include "vdbmap/core/Progress.h"
 #include "vdbmap/core/Timer.h"
@@ -35,80 +36,88 @@ public:
     std::string_view summary() const override {
         return "Adaptive-truncation TSDF integration of the LiDAR scans into OpenVDB grids";
     }
+    /// Every option is bound to a field of AtsdfConfig (or, for the two enumerations, a string
+    /// parsed into one) with that field's default: the struct is the one source of the
+    /// defaults (kiss-icp's KISSConfig), so the library and `vdbmap run` build the same
+    /// integrator (tests/unit/AtsdfStageDefaultsTest.cpp).
     void declareOptions(OptionSpec& spec) override {
-        spec.add("voxel_size_m", "Edge length of a voxel", voxel_size_m_, 0.10, "m");
+        const AtsdfConfig d;
+        const TruncationParams& dt = d.truncation;
+        TruncationParams& t = config_.truncation;
+        spec.add("voxel_size_m", "Edge length of a voxel", voxel_size_m_, kDefaultVoxelSizeM, "m");
         spec.add("truncation_mode",
                  "adaptive (eps of paper Eq. 4 per 8^3 block; the band keeps b = grazing_band_voxels "
                  "across grazing surfaces: along the ray min(max(eps, b / |n.d|), L_max) in front of "
                  "the point, min(max(eps, b), b / |n.d|) behind it; samples weighted by noise_ratio "
                  "and falloff_voxels), paper (Eq. 4, [-eps, eps] along the ray, the paper's incidence "
                  "weight) or fixed (= truncation_max_m along the ray, the adaptive mode's weights)",
-                 truncation_mode_, std::string("adaptive"));
+                 truncation_mode_, std::string(truncationModeName(dt.mode)));
         spec.add("truncation_min_voxels",
                  "eps_min in voxels (used when truncation_min_m is 0): the truncation of densely "
                  "sampled or non-flat blocks, i.e. the detail. 4 = the paper's streets (0.40 m at "
                  "0.10 m voxels) and SUV (0.10 m at 0.025 m)",
-                 min_vox_, 4.0, "voxels");
+                 t.min_voxels, dt.min_voxels, "voxels");
         spec.add("truncation_max_voxels",
                  "eps_max in voxels (used when truncation_max_m is 0): the truncation of sparse, "
                  "flat blocks and the farthest reach of a grazing ray, i.e. what closes the gaps "
                  "between LiDAR rings. 8 = the paper's streets (0.80 m at 0.10 m voxels); 12 = its "
                  "SUV, a close object (0.30 m at 0.025 m)",
-                 max_vox_, 8.0, "voxels");
+                 t.max_voxels, dt.max_voxels, "voxels");
         spec.add("truncation_min_m", "Lower bound eps_min of the truncation distance (0 = truncation_min_voxels)",
-                 min_m_, 0.0, "m");
+                 t.min_m, dt.min_m, "m");
         spec.add("truncation_max_m",
                  "Upper bound eps_max of the truncation, the fixed value in fixed mode (0 = "
                  "truncation_max_voxels)",
-                 max_m_, 0.0, "m");
+                 t.max_m, dt.max_m, "m");
         spec.add("truncation_max_along_ray_m",
                  "Adaptive mode: L_max, the cap of an update's half-length along a grazing ray (0 = "
                  "eps_max)",
-                 max_along_ray_m_, 0.0, "m");
+                 t.max_along_ray_m, dt.max_along_ray_m, "m");
         spec.add("grazing_band_voxels",
                  "Adaptive mode: b, the least half-width of the band across a surface (along its "
                  "normal) in voxels; a grazing ray's update reaches b / |n.d| along it",
-                 grazing_band_vox_, 2.0, "voxels");
+                 t.grazing_band_voxels, dt.grazing_band_voxels, "voxels");
         spec.add("grazing_band_both_sides",
                  "Adaptive mode: behind the point too, the band reaches b across the surface "
                  "(min(b / |n.d|, L_max) along the ray) instead of min(max(eps, b), b / |n.d|)",
-                 both_sides_, false);
+                 t.grazing_band_both_sides, dt.grazing_band_both_sides);
         spec.add("grazing_band_to_next_ring",
                  "Adaptive mode: behind a grazing point the band reaches the next ring of the scan "
                  "(g = r sin(e dtheta) / sin(alpha - e dtheta), rings found in each scan), up to "
                  "min(b / |n.d|, L_max), where that ring lands on the same plane; off: "
                  "min(max(eps, b), b / |n.d|)",
-                 next_ring_, true);
-        spec.add("flatness_k", "Weight k of the flatness in eps = k P_flat n_ref / n eps_max", k_, 1.0);
+                 t.grazing_band_to_next_ring, dt.grazing_band_to_next_ring);
+        spec.add("flatness_k", "Weight k of the flatness in eps = k P_flat n_ref / n eps_max",
+                 t.flatness_k, dt.flatness_k);
         spec.add("reference_density_pts_m2",
                  "Surface density giving n_ref = density * (8 voxel)^2, the points per block at which a "
                  "flat block gets k * eps_max (n enters Eq. 4 as n / n_ref)",
-                 density_ref_, 156.25, "1/m^2");
+                 t.reference_density_pts_m2, dt.reference_density_pts_m2, "1/m^2");
         spec.add("reference_points",
                  "n_ref given directly (points per block); 0 = from reference_density_pts_m2",
-                 n_ref_, 0.0);
+                 t.reference_points, dt.reference_points);
         spec.add("min_points_for_pca", "Blocks with fewer points are degenerate (eps_max, ray normal)",
-                 min_points_, 5);
+                 config_.min_points_for_pca, d.min_points_for_pca);
         spec.add("weight_floor",
                  "Lower bound, in (0, 1], of the paper's incidence weight (paper mode) and of the "
                  "distance falloff (adaptive, fixed)",
-                 weight_floor_, 0.1);
+                 config_.weight_floor, d.weight_floor);
         spec.add("max_weight",
                  "Cap of the accumulated weight per voxel (a frontal sample weighs 1, a grazing one "
                  "up to 1 + noise_ratio^2)",
-                 max_weight_, 1000.0);
+                 config_.max_weight, d.max_weight);
         spec.add("range_noise_m",
                  "1-sigma range noise of the sensor: a block whose points spread less than twice "
                  "this across their main direction (one ring: a ribbon along the rays) gets no normal",
-                 range_noise_m_, 0.02, "m");
+                 config_.range_noise_m, d.range_noise_m, "m");
         spec.add("noise_ratio",
                  "Adaptive, fixed: q = range noise / noise floor of a sample's distance along the "
                  "normal; a sample at incidence cosine c weighs (1 + q^2) / (1 + q^2 c^2) (0 = 1)",
-                 noise_ratio_, 3.0);
+                 config_.noise_ratio, d.noise_ratio);
         spec.add("falloff_voxels",
                  "Adaptive, fixed: l in voxels; a sample counts 1 / (1 + (t / l)^2) (at least "
                  "weight_floor) at a voxel t along the ray from its point (0 = no falloff)",
-                 falloff_vox_, 1.0, "voxels");
+                 config_.falloff_voxels, d.falloff_voxels, "voxels");
         spec.add("merge_points",
                  "auto, none, voxel or half_voxel: the points of a scan in one voxel (in one cell of "
                  "half a voxel's side) update the map as one ray, their mean weighted by their count "
@@ -119,14 +128,14 @@ public:
                  "keeps b across every "
                  "surface; none in the fixed and paper modes, whose band can be a voxel thin across "
                  "a grazing surface (fewer rays would leave holes there)",
-                 merge_points_, std::string("auto"));
+                 merge_points_, std::string(mergePointsName(d.merge_divisions)));
         spec.add("space_carving",
                  "Push already allocated voxels in front of the band towards free space (+eps_max)",
-                 space_carving_, false);
+                 config_.space_carving, d.space_carving);
         spec.add("working_set_scans",
                  "Scans a leaf stays dense after the last scan that could update it; then it moves "
                  "to the compact store (lossless: only memory and time depend on it)",
-                 working_set_scans_, 4);
+                 config_.working_set_scans, d.working_set_scans);
     }
     void initialize() override {
         if (!(voxel_size_m_ >= kMinVoxelSizeM) || !std::isfinite(voxel_size_m_)) {
@@ -140,63 +149,14 @@ public:
         } catch (const ConfigError& e) {
             failConfig(std::string("option '") + e.what());
         }
-        for (const auto& [key, value] : {std::pair<const char*, double>{"truncation_min_voxels", min_vox_},
-                                         {"truncation_max_voxels", max_vox_},
-                                         {"truncation_min_m", min_m_},
-                                         {"truncation_max_m", max_m_}}) {
-            if (!(value >= 0.0) || !std::isfinite(value)) {
-                std::ostringstream os;
-                os << "option '" << key << "' must be finite and >= 0, got " << value;
-                failConfig(os.str());
-            }
+        try {
+            config_.merge_divisions = parseMergePoints(merge_points_);
+        } catch (const ConfigError&) {
+            failConfig("option 'merge_points' must be auto, none, voxel or half_voxel, got '" +
+                       merge_points_ + "'");
         }
-        // The range from the voxel size unless given in metres.
-        config_.truncation.max_m = max_m_ > 0.0 ? max_m_ : max_vox_ * voxel_size_m_;
-        // eps_min from voxels never exceeds eps_max (a fixed-mode config gives only the max).
-        config_.truncation.min_m =
-            min_m_ > 0.0 ? min_m_ : std::min(min_vox_ * voxel_size_m_, config_.truncation.max_m);
-        config_.truncation.max_along_ray_m = max_along_ray_m_;
-        config_.truncation.grazing_band_m = grazing_band_vox_ * voxel_size_m_;
-        config_.truncation.grazing_band_both_sides = both_sides_;
-        config_.truncation.grazing_band_to_next_ring = next_ring_;
-        config_.truncation.flatness_k = k_;
-        if (!(n_ref_ >= 0.0) || !std::isfinite(n_ref_)) {
-            std::ostringstream os;
-            os << "option 'reference_points' must be finite and >= 0, got " << n_ref_;
-            failConfig(os.str());
-        }
-        if (!(density_ref_ > 0.0) || !std::isfinite(density_ref_)) {
-            std::ostringstream os;
-            os << "option 'reference_density_pts_m2' must be finite and > 0, got " << density_ref_;
-            failConfig(os.str());
-        }
-        config_.truncation.reference_points =
-            n_ref_ > 0.0 ? n_ref_ : referencePointsForDensity(density_ref_, voxel_size_m_);
-        config_.min_points_for_pca = min_points_;
-        config_.weight_floor = weight_floor_;
-        config_.range_noise_m = range_noise_m_;
-        config_.noise_ratio = noise_ratio_;
-        if (!(falloff_vox_ >= 0.0) || !std::isfinite(falloff_vox_)) {
-            std::ostringstream os;
-            os << "option 'falloff_voxels' must be finite and >= 0, got " << falloff_vox_;
-            failConfig(os.str());
-        }
-        config_.falloff_m = falloff_vox_ * voxel_size_m_;
-        config_.max_weight = max_weight_;
-        config_.space_carving = space_carving_;
-        if (merge_points_ == "auto") {
-            config_.merge_divisions = config_.truncation.mode == TruncationMode::Adaptive ? 1 : 0;
-        } else if (merge_points_ == "none") {
-            config_.merge_divisions = 0;
-        } else if (merge_points_ == "voxel") {
-            config_.merge_divisions = 1;
-        } else if (merge_points_ == "half_voxel") {
-            config_.merge_divisions = 2;
-        } else {
-            failConfig("option 'merge_points' must be auto, none, voxel or half_voxel, got '" + merge_points_ + "'");
-        }
-        config_.working_set_scans = working_set_scans_;
-        validateAtsdfConfig(config_, std::string(name()));
+        validateAtsdfConfig(config_, voxel_size_m_, std::string(name()));
+        resolved_ = resolveAtsdfConfig(config_, voxel_size_m_);
     }
     void declareLayers(LayerSpec& spec) const override {
         spec.reads(layers::kScans);
@@ -204,16 +164,15 @@ public:
     }
     void run(Context& ctx) override {
         const Dataset& dataset = ctx.dataset();
-        auto map = std::make_shared<VoxelMap>(voxel_size_m_, static_cast<float>(config_.truncation.max_m),
-                                              static_cast<float>(max_weight_));
+        std::shared_ptr<VoxelMap> map = makeVoxelMap(config_, voxel_size_m_);
         AtsdfIntegrator integrator(*map, config_);
         // Streamed tiled runs finish tiles from this map while the scans come in; a scan
         // changes it at most maxUpdateReach past a point, plus the block statistics a point
         // reads (its block and their 26 neighbours: within 3.5 leaves of the point).
-        ctx.setMap(map);
+        ContextBuilder::setMap(ctx, map);
         const double leaf_m = 8.0 * voxel_size_m_;
         const std::vector<std::size_t> frames =
-            ctx.beginScanStream(maxUpdateReach(config_, voxel_size_m_) + 4.0 * leaf_m);
+            ctx.beginScanStream(maxUpdateReach(resolved_, voxel_size_m_) + 4.0 * leaf_m);
         DatasetIntegration run;
         {
             // Scan i + 1 is read while scan i is integrated (integrateDataset).
@@ -231,9 +190,9 @@ public:
         const std::string s(name());
         Report& r = ctx.report();
         r.stage(s, "scans", t.scans);
-        r.stage(s, "reference_points", config_.truncation.reference_points);
-        r.stage(s, "truncation_min_m_used", config_.truncation.min_m);
-        r.stage(s, "truncation_max_m_used", config_.truncation.max_m);
+        r.stage(s, "reference_points", resolved_.truncation.reference_points);
+        r.stage(s, "truncation_min_m_used", resolved_.truncation.min_m);
+        r.stage(s, "truncation_max_m_used", resolved_.truncation.max_m);
         r.stage(s, "updates_per_point",
                 t.points_integrated ? static_cast<double>(t.voxel_updates) / static_cast<double>(t.points_integrated) : 0.0);
         r.stage(s, "points_read", read_total.points_read);
@@ -274,20 +233,11 @@ public:
     AtsdfStageSettings settings() const { return {voxel_size_m_, config_}; }
 
 private:
-    double voxel_size_m_ = 0.10;
+    double voxel_size_m_ = kDefaultVoxelSizeM;
     std::string truncation_mode_;
-    double min_vox_ = 4.0, max_vox_ = 8.0;
-    double min_m_ = 0.0, max_m_ = 0.0, max_along_ray_m_ = 0.0, grazing_band_vox_ = 2.0;
-    bool both_sides_ = false;
-    bool next_ring_ = true;
-    double k_ = 1.0, density_ref_ = 156.25, n_ref_ = 0.0;
-    int min_points_ = 5;
-    double weight_floor_ = 0.1, max_weight_ = 1000.0;
-    double range_noise_m_ = 0.02, noise_ratio_ = 3.0, falloff_vox_ = 1.0;
-    bool space_carving_ = false;
     std::string merge_points_;
-    int working_set_scans_ = 4;
-    AtsdfConfig config_;
+    AtsdfConfig config_;    ///< as given (voxel counts, kMergeAuto)
+    AtsdfConfig resolved_;  ///< at voxel_size_m_, for the report
 };
 
 /// mesh.marching_cubes: zero level set of the tsdf as a welded triangle mesh.
@@ -298,10 +248,11 @@ public:
         return "Marching cubes over the observed tsdf (welded vertices, vertex normals)";
     }
     void declareOptions(OptionSpec& spec) override {
+        const MarchingCubesConfig d;  // the defaults: MarchingCubesConfig's
         spec.add("min_weight", "Mesh a cube only if its 8 corners have at least this weight",
-                 config_.min_weight, 0.1);
+                 config_.min_weight, d.min_weight);
         spec.add("min_component_faces", "Remove connected components with fewer faces (0 = keep all)",
-                 config_.min_component_faces, 0);
+                 config_.min_component_faces, d.min_component_faces);
     }
     void initialize() override {
         if (!(config_.min_weight >= 0.0) || !std::isfinite(config_.min_weight)) {

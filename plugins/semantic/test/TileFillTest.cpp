@@ -10,6 +10,7 @@
 #include <memory>
 
 #include "TileFill.h"
+#include "pipeline/ContextBuilder.h"
 #include "vdbmap/map/Layers.h"
 #include "vdbmap/map/VoxelMap.h"
 #include "vdbmap/mesh/MarchingCubes.h"
@@ -53,8 +54,9 @@ TEST_CASE("Unlabelled regions cut by the tile's edge are filled from the wider t
 
     Report report;
     Context ctx(std::filesystem::temp_directory_path(), report, true);
-    ctx.setMap(std::shared_ptr<VoxelMap>(&map, [](VoxelMap*) {}));
-    ctx.setTile(tile);
+    // What the pipeline sets for a tile's stages (the library's private ContextBuilder).
+    ContextBuilder::setMap(ctx, std::shared_ptr<VoxelMap>(&map, [](VoxelMap*) {}));
+    ContextBuilder::setTile(ctx, tile);
     ctx.setMesh(extractMeshRegion(map, MarchingCubesConfig{}, tile->region));
     ctx.setOccluderMesh(extractMeshRegion(map, MarchingCubesConfig{}, tile->occluder_region));
     const TriMesh& mesh = ctx.mesh();

@@ -15,14 +15,23 @@ namespace vdbmap {
 
 class VoxelMap;
 
-/// Settings of the adaptive TSDF integration (paper Sec. 4).
+/// merge_divisions of AtsdfConfig: 1 (voxel) in the adaptive mode, 0 (none) in the others.
+inline constexpr int kMergeAuto = -1;
+
+/// Settings of the adaptive TSDF integration (paper Sec. 4). The defaults are the product's,
+/// the one source of them: the integrate.atsdf stage binds its options to these fields (and
+/// tests/unit/AtsdfStageDefaultsTest.cpp checks that its defaults equal them), so a library
+/// caller with AtsdfConfig{} builds what `vdbmap run` builds. Lengths in voxels resolve
+/// against the map's voxel size (resolveAtsdfConfig; AtsdfIntegrator does it).
 struct AtsdfConfig {
     TruncationParams truncation;
     int min_points_for_pca = 5;     ///< blocks with fewer points are degenerate
     /// Lower bound, in (0, 1], of the paper's incidence weight (paper mode) and of the distance
     /// falloff (adaptive and fixed modes).
     double weight_floor = 0.1;
-    double max_weight = 100.0;      ///< cap of the accumulated weight per voxel
+    /// Cap of the accumulated weight per voxel (a frontal sample weighs 1, a grazing one up to
+    /// 1 + noise_ratio^2). The map's weight range must hold it (makeVoxelMap).
+    double max_weight = 1000.0;
     /// sigma_r, the sensor's 1-sigma range noise (m). A block whose points spread less than
     /// 2 sigma_r across their main direction is degenerate: one ring's points with range noise
     /// form a ribbon spanned by the ring and the rays themselves, whose "normal" is
@@ -31,8 +40,10 @@ struct AtsdfConfig {
     /// q = sigma_r / sigma_0 of noiseWeight (adaptive and fixed modes; vdbmap/map/
     /// MeasurementWeight.h): a grazing sample counts up to 1 + q^2 times a frontal one.
     double noise_ratio = 3.0;
-    /// l of distanceFalloff (adaptive and fixed modes), metres; 0 = no falloff.
-    double falloff_m = 0.1;
+    /// l of distanceFalloff (adaptive and fixed modes) in voxels, used when falloff_m is 0.
+    double falloff_voxels = 1.0;
+    /// l of distanceFalloff in metres; 0 = falloff_voxels voxels (both 0: no falloff).
+    double falloff_m = 0.0;
     /// Space carving: along the ray from the sensor to (point - eps), voxels that are already
     /// allocated are updated with sdf = +eps_max (free space). Never allocates free space.
     bool space_carving = false;
@@ -42,7 +53,10 @@ struct AtsdfConfig {
     /// n . (c - p) is linear in p, one normal per block); near the sensor, where a voxel holds
     /// many points, it saves most of the ray walks. The band of a ray that stands for two or
     /// more points starts further in front of their mean, by mergedRayFrontExtension.
-    int merge_divisions = 0;
+    /// kMergeAuto: 1 in the adaptive mode (its band keeps b across every surface), 0 in the
+    /// fixed and paper modes (their band can be a voxel thin across a grazing surface, and
+    /// fewer rays would leave holes there).
+    int merge_divisions = kMergeAuto;
     double min_range_m = 1e-3;      ///< closer to the sensor: dropped as "at origin"
     double max_range_m = 1000.0;    ///< further: dropped as absurd range
     /// A leaf stays dense in the map's working tree while one of the last `working_set_scans`
@@ -52,12 +66,27 @@ struct AtsdfConfig {
     int working_set_scans = 4;
 };
 
-/// Throws ConfigError naming the bad key and value.
-void validateAtsdfConfig(const AtsdfConfig& config, const std::string& who);
+/// `config` as the integrator runs it at `voxel_size_m`: the truncation resolved
+/// (resolveTruncation), falloff_m from falloff_voxels where 0, kMergeAuto replaced by 0 or 1.
+/// A resolved config resolves to itself.
+AtsdfConfig resolveAtsdfConfig(const AtsdfConfig& config, double voxel_size_m);
+
+/// Checks `config` at `voxel_size_m`: its voxel counts, then the resolved values. Throws
+/// ConfigError naming the bad key (the integrate.atsdf option) and value, prefixed by `who`.
+void validateAtsdfConfig(const AtsdfConfig& config, double voxel_size_m, const std::string& who);
+
+/// "auto", "none", "voxel", "half_voxel" (the stage's merge_points) for merge_divisions
+/// kMergeAuto, 0, 1, 2; and back. parseMergePoints throws ConfigError naming the bad value.
+const char* mergePointsName(int merge_divisions);
+int parseMergePoints(const std::string& text);
+
+/// A map for `config` at `voxel_size_m`, as integrate.atsdf makes it: its sdf range (and
+/// background) the resolved eps_max, its weight range max_weight. Throws as VoxelMap does.
+std::shared_ptr<VoxelMap> makeVoxelMap(const AtsdfConfig& config, double voxel_size_m);
 
 /// How much further in front of its mean (towards the sensor) the band of a merged ray starts
-/// than a point's: half the diagonal of its cell, sqrt(3) / 2 * voxel / merge_divisions; 0
-/// without merging. One ray loses some of the voxels that the separate rays of its points
+/// than a point's: half the diagonal of its cell, sqrt(3) / 2 * voxel / merge_divisions
+/// (resolved); 0 without merging. One ray loses some of the voxels that the separate rays of its points
 /// covered at the ends of their bands: on a real KITTI scan merged rays left more of the ground
 /// empty and were less accurate there than fixed eps_max at [0.1, 0.3] m. With this extension
 /// they are not, and every simulated target holds (docs/results/geometry.md, "Merged rays with
@@ -65,8 +94,8 @@ void validateAtsdfConfig(const AtsdfConfig& config, const std::string& who);
 /// points' spread along the ray alone did not recover the real scan.
 double mergedRayFrontExtension(const AtsdfConfig& config, double voxel_size_m);
 
-/// The furthest an update lands from its point (m): maxHalfLength of the truncation plus
-/// mergedRayFrontExtension.
+/// The furthest an update lands from its point (m): maxHalfLength of the resolved truncation
+/// plus mergedRayFrontExtension.
 double maxUpdateReach(const AtsdfConfig& config, double voxel_size_m);
 
 /// Counts of one or more integrated scans.
@@ -130,8 +159,9 @@ struct IntegrationStats {
 /// depend on the thread count. No atomics, no locks in the voxel loop.
 class AtsdfIntegrator {
 public:
-    /// Throws ConfigError on a bad config, or if truncation max or max weight exceed the map's
-    /// sdf or weight range (VoxelMap's constructor; best: the sdf range = truncation max).
+    /// Runs resolveAtsdfConfig(config, map.voxelSize()). Throws ConfigError on a bad config, or
+    /// if truncation max or max weight exceed the map's sdf or weight range (VoxelMap's
+    /// constructor; best: the sdf range = truncation max, as makeVoxelMap makes it).
     AtsdfIntegrator(VoxelMap& map, const AtsdfConfig& config);
     ~AtsdfIntegrator();
     AtsdfIntegrator(const AtsdfIntegrator&) = delete;
@@ -155,6 +185,7 @@ public:
     /// compact store, dropping leaves without active voxels. Call after the last scan.
     void finalize();
 
+    /// The config as run: resolved at the map's voxel size.
     const AtsdfConfig& config() const { return config_; }
     const IntegrationStats& totals() const { return totals_; }
 

@@ -25,24 +25,41 @@ TruncationMode parseTruncationMode(const std::string& text);
 /// "adaptive" / "paper" / "fixed".
 const char* truncationModeName(TruncationMode mode);
 
-/// Parameters of the truncation distance.
+/// Parameters of the truncation distance. The defaults are the product's: what the
+/// integrate.atsdf stage uses when its options are not given (the stage binds its options to
+/// these fields). Lengths given in voxels apply where the metre field is 0;
+/// resolveTruncation turns them into metres against the map's voxel size, and the functions
+/// below take resolved parameters (AtsdfIntegrator resolves its config itself).
 struct TruncationParams {
     TruncationMode mode = TruncationMode::Adaptive;
-    double min_m = 0.10;  ///< eps_min
-    double max_m = 0.30;  ///< eps_max
+    /// eps_min in voxels, used when min_m is 0: the truncation of densely sampled or non-flat
+    /// blocks. 4 = the paper's streets (0.40 m at 0.10 m voxels) and SUV (0.10 m at 0.025 m).
+    double min_voxels = 4.0;
+    /// eps_max in voxels, used when max_m is 0: the truncation of sparse, flat blocks and the
+    /// farthest reach of a grazing ray. 8 = the paper's streets (0.80 m at 0.10 m voxels).
+    double max_voxels = 8.0;
+    /// eps_min (m); 0 = min_voxels voxels, but at most eps_max (a fixed-mode config gives only
+    /// the max).
+    double min_m = 0.0;
+    double max_m = 0.0;  ///< eps_max (m); 0 = max_voxels voxels
     /// k: importance of the flatness (unitless, because n enters relative to n_ref).
     double flatness_k = 1.0;
+    /// The surface density (points per m^2) that gives n_ref when reference_points is 0
+    /// (referencePointsForDensity), so that eps adapts alike at every voxel size. 156.25 gives
+    /// n_ref = 100 at 0.10 m voxels.
+    double reference_density_pts_m2 = 156.25;
     /// n_ref: the point count per block at which a perfectly flat block gets k * eps_max.
-    /// The paper's n enters as n / n_ref, so k is unitless. The stage derives n_ref from a
-    /// surface density (referencePointsForDensity) so that eps adapts alike at every voxel size.
-    double reference_points = 100.0;
+    /// The paper's n enters as n / n_ref, so k is unitless. 0 = from reference_density_pts_m2.
+    double reference_points = 0.0;
     /// Adaptive mode: L_max, the cap of the update's half-length along a grazing ray (m);
     /// 0 = max_m: the adaptive band then never reaches further along a ray than fixed eps_max's.
     /// Bounds the work per point and how far a plane is extrapolated.
     double max_along_ray_m = 0.0;
+    /// Adaptive mode: b in voxels, used when grazing_band_m is 0.
+    double grazing_band_voxels = 2.0;
     /// Adaptive mode: b, the least half-width of the band across a surface (along its normal),
-    /// in metres (the stage gives it in voxels: grazing_band_voxels * voxel).
-    double grazing_band_m = 0.2;
+    /// in metres; 0 = grazing_band_voxels voxels (both 0: no band beyond eps).
+    double grazing_band_m = 0.0;
     /// Adaptive mode: the band reaches b across the surface behind the point as well
     /// (back = min(b / |n . d|, L_max) along the ray) instead of max(eps, b) along the ray: the
     /// gap between two rings of a grazing surface is then closed from both of them.
@@ -51,16 +68,20 @@ struct TruncationParams {
     /// (back >= min(g, b / |n . d|, L_max), g the surface gap of RingSpacing::surfaceGap), where
     /// that ring lands on the same surface (the block there has a plane of about the same
     /// normal, within b): the integrator estimates the rings from each scan in its sensor frame.
-    /// Off here (the plain adaptive band); the integrate.atsdf stage turns it on by default.
-    bool grazing_band_to_next_ring = false;
+    bool grazing_band_to_next_ring = true;
 };
+
+/// `params` with every length in metres: min_m, max_m and grazing_band_m from their voxel
+/// counts where 0 (min_m at most max_m), reference_points from the density where 0. Resolved
+/// parameters resolve to themselves.
+TruncationParams resolveTruncation(const TruncationParams& params, double voxel_size_m);
 
 /// n_ref of an 8^3 block of edge 8 * voxel_size_m from a reference density of measurement
 /// points per square metre of surface: density * (8 voxel)^2, the points a flat patch across
 /// the block holds at that density. 156.25 / m^2 gives 100 at 0.10 m voxels, 6.25 at 0.025 m.
 double referencePointsForDensity(double density_pts_m2, double voxel_size_m);
 
-/// Throws ConfigError if the parameters are not finite, min <= 0, max < min, k < 0,
+/// Checks resolved parameters (resolveTruncation). Throws ConfigError if they are not finite, min <= 0, max < min, k < 0,
 /// reference_points <= 0 or max_along_ray_m < 0 (or, when set, < max_m). `who` prefixes the
 /// message (stage name).
 void validateTruncation(const TruncationParams& params, const std::string& who);

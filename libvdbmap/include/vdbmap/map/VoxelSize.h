@@ -9,4 +9,8 @@ namespace vdbmap {
 /// so 1 mm is the documented floor (the integrate stage checks it as a config error).
 inline constexpr double kMinVoxelSizeM = 1e-3;
 
+/// The voxel edge of integrate.atsdf when voxel_size_m is not given, in metres: the paper's
+/// streets. AtsdfConfig's lengths in voxels resolve against it there.
+inline constexpr double kDefaultVoxelSizeM = 0.10;
+
 }  // namespace vdbmap

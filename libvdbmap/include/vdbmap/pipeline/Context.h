@@ -17,6 +17,7 @@ class VoxelMap;
 class Report;
 class ScanStream;
 struct Tile;
+class ContextBuilder;
 
 /// Everything stages share: the dataset (read-only), the map, the mesh, the report, the output
 /// folder and the run flags. Stages share state only through this object.
@@ -31,6 +32,10 @@ struct Tile;
 /// the dataset's scans asks beginScanStream() which frames to read and calls scanIntegrated()
 /// after each one. In a tile's context, the map is complete only within the tile's occluder
 /// region (the tile grown by max(halo_m, occluder_margin_m)).
+///
+/// A stage reads the run's state and writes its outputs (setMesh, setOccluderMesh,
+/// writeOutput, report()). What only the pipeline sets (the dataset, the map, the tile, the scan
+/// stream) goes through ContextBuilder, which is not installed.
 class Context {
 public:
     Context(std::filesystem::path output_dir, Report& report, bool quiet = false);
@@ -49,14 +54,12 @@ public:
     bool hasDataset() const { return dataset_ != nullptr; }
     /// Throws Error if the pipeline has no dataset section.
     const Dataset& dataset() const;
-    void setDataset(std::shared_ptr<const Dataset> dataset) { dataset_ = std::move(dataset); }
 
     bool hasMap() const { return map_ != nullptr; }
     /// Throws Error if no stage created a map.
     VoxelMap& map();
     const VoxelMap& map() const;
     std::shared_ptr<const VoxelMap> mapPtr() const { return map_; }
-    void setMap(std::shared_ptr<VoxelMap> map) { map_ = std::move(map); }
 
     bool hasMesh() const { return mesh_ != nullptr; }
     /// Throws Error if no stage created a mesh.
@@ -74,12 +77,12 @@ public:
     bool hasTile() const { return tile_ != nullptr; }
     /// The tile (key, core and halo bounds in W, assigned views). Throws Error if untiled.
     const Tile& tile() const;
-    void setTile(std::shared_ptr<const Tile> tile) { tile_ = std::move(tile); }
 
-    /// A context for one tile of a tiled run (the pipeline makes them): the same dataset, map
-    /// and flags, the tile's folder and report, no mesh yet.
-    std::unique_ptr<Context> tileContext(std::filesystem::path tile_dir, Report& tile_report,
-                                         std::shared_ptr<const Tile> tile);
+    /// A context for a stage's own work on another region (semantic.mrf labels the tile grown
+    /// to its occluder margin): the same dataset, map, output folder and flags, `tile` as its
+    /// tile, `report` as its report, no mesh yet (setMesh). The pipeline never sees it; this
+    /// context is not changed.
+    std::unique_ptr<Context> regionContext(std::shared_ptr<const Tile> tile, Report& report) const;
 
     /// The views of the dataset a mesh stage works with, filtered like datasetViews(): in a
     /// tiled run only those assigned to the tile, else all. Throws Error without a dataset.
@@ -101,10 +104,9 @@ public:
     /// context those whose scans can reach the tile (all frames if the run was not planned
     /// from the poses), else the frames of beginScanStream() (all frames before it).
     std::vector<std::size_t> scanFrames() const;
-    /// The pipeline's side of streaming (set by the pipeline for tiled runs).
-    void setScanStream(std::shared_ptr<ScanStream> stream) { stream_ = std::move(stream); }
 
 private:
+    friend class ContextBuilder;  ///< the pipeline's setters (src/pipeline/ContextBuilder.h)
     std::filesystem::path output_dir_;
     Report& report_;
     bool quiet_;
