@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "stages/TsdfStages.h"
+#include "stages/DynamicRemovalStep.h"
 
 #include <openvdb/openvdb.h>
 
@@ -127,6 +128,7 @@ public:
                  "Scans a leaf stays dense after the last scan that could update it; then it moves "
                  "to the compact store (lossless: only memory and time depend on it)",
                  working_set_scans_, 4);
+        declareDynamicOptions(spec, dynamic_);
     }
     void initialize() override {
         if (!(voxel_size_m_ >= kMinVoxelSizeM) || !std::isfinite(voxel_size_m_)) {
@@ -197,6 +199,7 @@ public:
         }
         config_.working_set_scans = working_set_scans_;
         validateAtsdfConfig(config_, std::string(name()));
+        validateDynamicRemovalConfig(dynamic_, std::string(name()));
     }
     void declareLayers(LayerSpec& spec) const override {
         spec.reads(layers::kScans);
@@ -214,15 +217,22 @@ public:
         const double leaf_m = 8.0 * voxel_size_m_;
         const std::vector<std::size_t> frames =
             ctx.beginScanStream(maxUpdateReach(config_, voxel_size_m_) + 4.0 * leaf_m);
+        // Moving objects out of the map (issue 33): each scan's dynamic points are dropped
+        // before it is integrated, in the read-ahead task (docs/dynamic.md).
+        DynamicRemovalStep dynamic(ctx, dynamic_);
         DatasetIntegration run;
         {
             // Scan i + 1 is read while scan i is integrated (integrateDataset).
             Progress progress("integrate.atsdf", frames.size(), ctx.quiet());
-            run = integrateDataset(dataset, integrator, frames, [&](std::size_t frame) {
-                progress.tick();
-                ctx.scanIntegrated(frame);
-            });
+            run = integrateDataset(
+                dataset, integrator, frames,
+                [&](std::size_t frame) {
+                    progress.tick();
+                    ctx.scanIntegrated(frame);
+                },
+                dynamic.filter());
         }
+        dynamic.finish(ctx, std::string(name()));
         const ScanReadStats& read_total = run.read;
         const double seconds = run.seconds - run.on_scan_s;
         integrator.finalize();
@@ -286,6 +296,7 @@ private:
     std::string merge_points_;
     int working_set_scans_ = 4;
     AtsdfConfig config_;
+    DynamicRemovalConfig dynamic_;
 };
 
 /// mesh.marching_cubes: zero level set of the tsdf as a welded triangle mesh.
