@@ -85,6 +85,11 @@ void addOptions(CLI::App& app, vdbmap::SimOptions& options, CliExtras& cli) {
         ->check(CLI::Range(10.0, 170.0));
     app.add_flag("--occluders", options.occluders,
                  "Moving pedestrian boxes in some frames (images only)");
+    app.add_option("--traffic", options.traffic,
+                   "Street traffic: N cars (one creeping ahead in the ego lane, the others "
+                   "oncoming), a van crossing and three pedestrians, in the LiDAR and the "
+                   "images; gt/movers.json has their poses (default 0: none)")
+        ->check(CLI::Range(0, 20));
     app.add_option("--label-noise", options.label_noise_px,
                    "Jitter of semantic class boundaries in pixels")
         ->check(CLI::Range(0, 50));

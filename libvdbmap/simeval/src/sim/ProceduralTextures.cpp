@@ -59,6 +59,14 @@ cv::Mat proceduralTexture(const std::string& kind, std::uint64_t seed) {
     if (kind == "car_silver") return colored({180, 180, 175}, noiseField(rng, 6, 6));
     if (kind == "suv") return colored({60, 70, 120}, noiseField(rng, 6, 6));
     if (kind == "skin") return colored({120, 150, 200}, noiseField(rng, 10, 4));
+    // The traffic of --traffic (sim/StreetTraffic.cpp): colours no static surface has.
+    if (kind == "car_yellow") return colored({30, 200, 230}, noiseField(rng, 6, 6));
+    if (kind == "car_green") return colored({60, 150, 40}, noiseField(rng, 6, 6));
+    if (kind == "car_orange") return colored({20, 120, 240}, noiseField(rng, 6, 6));
+    if (kind == "van_white") return colored({235, 235, 230}, noiseField(rng, 8, 3));
+    if (kind == "shirt_purple") return colored({150, 40, 120}, noiseField(rng, 10, 2));
+    if (kind == "shirt_cyan") return colored({200, 200, 40}, noiseField(rng, 10, 2));
+    if (kind == "trousers") return colored({90, 50, 30}, noiseField(rng, 8, 2));
     if (kind == "curb") return colored({170, 170, 165}, noiseField(rng, 10, 1));
     if (kind == "sidewalk") {
         // Square paving slabs, 4 per tile, with dark joints.

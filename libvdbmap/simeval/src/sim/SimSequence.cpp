@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "vdbmap/sim/SimSequence.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <random>
 #include <set>
 #include <sstream>
@@ -15,6 +17,7 @@
 #include "sim/SimImaging.h"
 #include "sim/SimLidarLabels.h"
 #include "sim/SimRigOutput.h"
+#include "sim/SimTrafficFrame.h"
 #include "vdbmap/Error.h"
 #include "vdbmap/core/Log.h"
 #include "vdbmap/core/Progress.h"
@@ -30,6 +33,7 @@
 #include "vdbmap/render/Raycaster.h"
 #include "vdbmap/render/TexturedRender.h"
 #include "vdbmap/sim/LidarModel.h"
+#include "vdbmap/sim/MoversJson.h"
 #include "vdbmap/sim/Scenes.h"
 
 namespace vdbmap {
@@ -98,6 +102,8 @@ CameraIntrinsics kittiLikeIntrinsics() {
 
 namespace {
 
+constexpr std::size_t kMaxTraffic = 20;
+
 // Phase 1: options that CLI11 cannot check alone; the surround rig.
 std::vector<RigCamera> checkOptions(const SimOptions& options) {
     if (options.cameras != 1 && options.cameras != 2) {
@@ -124,6 +130,14 @@ std::vector<RigCamera> checkOptions(const SimOptions& options) {
     if (options.lidar_label_boundary_px < 0 || options.lidar_label_boundary_px > 50) {
         throw ConfigError("vdbmap-sim: --lidar-label-boundary must be in [0, 50] px, got " +
                           std::to_string(options.lidar_label_boundary_px));
+    }
+    if (options.traffic > kMaxTraffic) {
+        throw ConfigError("vdbmap-sim: --traffic must be in [0, " + std::to_string(kMaxTraffic) +
+                          "], got " + std::to_string(options.traffic));
+    }
+    if (options.traffic > 0 && options.scene != "street") {
+        throw ConfigError("vdbmap-sim: --traffic is for the street scene, not '" +
+                          options.scene + "'");
     }
     if (!surround) return {};
     try {
@@ -247,31 +261,53 @@ struct FrameContext {
     std::string labels_dir;             // "" = no LiDAR labels
     std::vector<std::uint8_t> scene_classes;
     ImagingOptions imaging;
+    const TrafficFrames* traffic = nullptr;  // null = no --traffic
+};
+
+// The geometry of one frame: the static scene, or the static scene with the traffic.
+struct FrameScene {
+    const SimScene* scene = nullptr;
+    const Raycaster* raycaster = nullptr;
+    const TrafficFrame* traffic = nullptr;  // null = no movers
 };
 
 // Phase 5a: the scan of frame f and its labels.
-void writeFrameScan(const FrameContext& c, std::size_t f, std::uint64_t frame_seed,
-                    SimSummary& summary, ObservedPoints& observed) {
+void writeFrameScan(const FrameContext& c, const FrameScene& fs, std::size_t f,
+                    std::uint64_t frame_seed, SimSummary& summary, ObservedPoints& observed) {
     const Isometry3d T_W_L = c.frames.T_W_C0[f] * c.frames.Tr;
-    const LidarScan scan = simulateScan(c.lidar, c.raycaster, T_W_L, frame_seed);
+    const LidarScan scan = simulateScan(c.lidar, *fs.raycaster, T_W_L, frame_seed);
     writeBin(c.out_dir / c.scans_dir / (frameName(f) + ".bin"), scan.points_L);
     summary.points += scan.points_L.size();
-    observed.add(scan.true_points_W);
+    if (fs.traffic) {
+        // gt/observed_points.ply is the static world: the movers' points stay out.
+        std::vector<Vec3f> static_points;
+        for (std::size_t i = 0; i < scan.faces.size(); ++i) {
+            if (fs.traffic->instanceOf(scan.faces[i]) == 0) {
+                static_points.push_back(scan.true_points_W[i]);
+            }
+        }
+        observed.add(static_points);
+    } else {
+        observed.add(scan.true_points_W);
+    }
     if (c.labels_dir.empty()) return;
     SimLidarLabelOptions lo;
     lo.semantickitti_ids = c.options.lidar_label_semantickitti_ids;
     lo.flip_rate = c.options.lidar_label_flip_rate;
     lo.boundary_px = c.options.lidar_label_boundary_px;
     std::mt19937_64 rng(frame_seed ^ 0x1abe15ULL);
-    const LidarLabels labels =
-        simulateLidarLabels(scan, c.lidar, c.setup.scene.face_labels, c.scene_classes, lo, rng);
+    LidarLabels labels =
+        simulateLidarLabels(scan, c.lidar, fs.scene->face_labels, c.scene_classes, lo, rng);
+    if (fs.traffic) {
+        markMovingPoints(labels, scan, *fs.traffic, c.traffic->movers(), lo.semantickitti_ids);
+    }
     writeLidarLabels(c.out_dir / c.labels_dir / (frameName(f) + ".label"), labels);
 }
 
 // Phase 5b: the colour and semantic images of frame f (returns its exposure).
-double writeFrameImages(const FrameContext& c, std::size_t f, std::uint64_t frame_seed,
-                        std::vector<std::size_t>& occluder_frames) {
-    const SimScene& scene = c.setup.scene;
+double writeFrameImages(const FrameContext& c, const FrameScene& fs, std::size_t f,
+                        std::uint64_t frame_seed, std::vector<std::size_t>& occluder_frames) {
+    const SimScene& scene = *fs.scene;
     std::mt19937_64 rng(frame_seed ^ 0x5eedULL);
     std::uniform_real_distribution<double> gain(1.0 - c.options.exposure_spread,
                                                 1.0 + c.options.exposure_spread);
@@ -288,7 +324,7 @@ double writeFrameImages(const FrameContext& c, std::size_t f, std::uint64_t fram
     const auto render = [&](const CameraIntrinsics& K_c, const Isometry3d& T_C_W,
                             const std::string& image_folder, const std::string& semantic_folder) {
         std::vector<RenderLayer> layers{
-            RenderLayer{&scene.mesh, &scene.textures, &c.raycaster, &scene.face_labels}};
+            RenderLayer{&scene.mesh, &scene.textures, fs.raycaster, &scene.face_labels}};
         if (occluder_rc) {
             layers.push_back(RenderLayer{&occluder.mesh, &occluder.textures, occluder_rc.get(),
                                          &occluder.face_labels});
@@ -416,13 +452,33 @@ void writeSimInfo(const std::filesystem::path& out_dir, const SimOptions& option
         info["lidar_label_flip_rate"] = options.lidar_label_flip_rate;
         info["lidar_label_boundary_px"] = options.lidar_label_boundary_px;
     }
-    info["occluder_frames"] = occluder_frames;  // frames whose images show a pedestrian box
+    info["occluder_frames"] = occluder_frames;
+    if (options.traffic > 0) info["traffic"] = options.traffic;  // cars; gt/movers.json  // frames whose images show a pedestrian box
     info["vignetting_abc"] = options.vignetting_abc;
     info["lidar_points"] = summary.points;
     info["gt_faces"] = summary.gt_faces;
     info["observed_points"] = summary.observed_points;
     info["observed_voxel_m"] = ObservedPoints::kVoxelM;
     writeText(out_dir / "gt" / "sim.json", info.dump(2) + "\n");
+}
+
+// Phase 2b (--traffic): the movers, laid out in the scene frame S (before placeFrames moves
+// the scene), their poses then moved into W.
+std::vector<Mover> buildTraffic(const SimOptions& options, const SceneSetup& setup_S) {
+    if (options.traffic == 0) return {};
+    const Raycaster static_S(setup_S.scene.mesh.positions, setup_S.scene.triangleIndices());
+    return buildStreetTraffic(setup_S, static_S, options.traffic, options.seed);
+}
+
+// Phase 10 (--traffic): gt/movers.json.
+void writeMovers(const std::filesystem::path& out_dir, const TrafficFrames& traffic,
+                 const SceneSetup& setup) {
+    MoversFile file;
+    for (std::size_t f = 0; f < setup.T_S_V.size(); ++f) {
+        file.times_s.push_back(static_cast<double>(f) / setup.frame_rate_hz);
+    }
+    file.movers = traffic.movers();
+    writeMoversJson(out_dir / "gt" / "movers.json", file);
 }
 
 }  // namespace
@@ -432,7 +488,12 @@ SimSummary writeSimSequence(const SimOptions& options, const std::filesystem::pa
     const std::vector<RigCamera> rig = checkOptions(options);
     SceneAndLidar built = buildScene(options);
     SceneSetup& setup = built.setup;
+    std::vector<Mover> movers = buildTraffic(options, setup);
     const SimFrames frames = placeFrames(setup);
+    for (Mover& m : movers) {
+        for (Isometry3d& T : m.T_W_O) T = frames.T_W_S * T;
+    }
+    const TrafficFrames traffic(std::move(movers), options.seed);
     const std::size_t n_frames = frames.size();
     const SimScene& scene = setup.scene;
     const Raycaster raycaster(scene.mesh.positions, scene.triangleIndices());
@@ -447,6 +508,14 @@ SimSummary writeSimSequence(const SimOptions& options, const std::filesystem::pa
     context.scene_classes.assign(classes.begin(), classes.end());
     context.imaging.vignetting_abc = options.vignetting_abc;
     context.imaging.label_noise_px = options.label_noise_px;
+    if (!traffic.movers().empty()) {
+        context.traffic = &traffic;
+        for (const Mover& m : traffic.movers()) context.scene_classes.push_back(m.class_id);
+        std::sort(context.scene_classes.begin(), context.scene_classes.end());
+        context.scene_classes.erase(
+            std::unique(context.scene_classes.begin(), context.scene_classes.end()),
+            context.scene_classes.end());
+    }
     std::filesystem::create_directories(out_dir / context.scans_dir);
     if (options.lidar_labels) std::filesystem::create_directories(out_dir / context.labels_dir);
     std::filesystem::create_directories(out_dir / "gt" / "views");
@@ -463,8 +532,15 @@ SimSummary writeSimSequence(const SimOptions& options, const std::filesystem::pa
         Progress progress("vdbmap-sim " + options.scene, n_frames, options.quiet);
         for (std::size_t f = 0; f < n_frames; ++f) {
             const std::uint64_t frame_seed = options.seed * 1000003ULL + f * 7919ULL + 17ULL;
-            writeFrameScan(context, f, frame_seed, summary, observed);
-            if (options.images) exposure[f] = writeFrameImages(context, f, frame_seed, occluder_frames);
+            std::optional<TrafficFrame> moving;
+            if (context.traffic) moving = context.traffic->frame(scene, f);
+            const FrameScene fs = moving ? FrameScene{&moving->scene, moving->raycaster.get(),
+                                                      &*moving}
+                                         : FrameScene{&scene, &raycaster, nullptr};
+            writeFrameScan(context, fs, f, frame_seed, summary, observed);
+            if (options.images) {
+                exposure[f] = writeFrameImages(context, fs, f, frame_seed, occluder_frames);
+            }
             progress.tick();
         }
     }
@@ -474,6 +550,7 @@ SimSummary writeSimSequence(const SimOptions& options, const std::filesystem::pa
     summary.seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     writeSimInfo(out_dir, options, rig, built.lidar, occluder_frames, summary);
+    if (context.traffic) writeMovers(out_dir, traffic, setup);
     return summary;
 }
 

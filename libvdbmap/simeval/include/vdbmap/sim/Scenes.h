@@ -13,7 +13,8 @@ namespace vdbmap {
 
 /// Procedural 256x256 BGR textures per surface kind ("asphalt", "lane", "sidewalk", "curb",
 /// "brick", "glass", "metal", "sign", "foliage", "bark", "car_red", "car_blue", "car_silver",
-/// "tyre", "grass", "suv", "window", "skin"), deterministic for a seed. Throws InvalidInput
+/// "tyre", "grass", "suv", "window", "skin"; the traffic's "car_yellow", "car_green",
+/// "car_orange", "van_white", "shirt_purple", "shirt_cyan", "trousers"), deterministic for a seed. Throws InvalidInput
 /// for an unknown kind.
 cv::Mat proceduralTexture(const std::string& kind, std::uint64_t seed);
 

@@ -24,6 +24,10 @@ struct SimOptions {
     std::string rig = "kitti";
     SurroundRigOptions rig_options;  ///< image size, field of view, mounting of "surround"
     bool occluders = false;   ///< moving "pedestrian" boxes in some frames, images only
+    /// Street traffic (buildStreetTraffic): this many cars, plus a van and three pedestrians,
+    /// in the LiDAR and the images alike; 0 = none. gt/ stays the static world, the labels
+    /// mark the moving points, gt/movers.json has every mover's pose per frame.
+    std::size_t traffic = 0;
     int label_noise_px = 0;   ///< boundary jitter of semantic_2/3, pixels
     /// Per-point LiDAR labels (SemanticKITTI .label): KITTI layout labels/, surround layout
     /// labels/ with `labels_dir: labels` in dataset.yaml.
