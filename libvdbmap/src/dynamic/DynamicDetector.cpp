@@ -51,6 +51,12 @@ void validateDynamicRemovalConfig(const DynamicRemovalConfig& c, const std::stri
     if (!(c.votes.margin_per_m >= 0.0) || !std::isfinite(c.votes.margin_per_m)) {
         bad(who, "margin_per_m", "finite and >= 0", c.votes.margin_per_m);
     }
+    if (!(c.share_radius_m >= 0.0) || !std::isfinite(c.share_radius_m)) {
+        bad(who, "share_radius_m", "finite and >= 0", c.share_radius_m);
+    }
+    if (!(c.votes.no_return_free_within_m >= 0.0) || !std::isfinite(c.votes.no_return_free_within_m)) {
+        bad(who, "no_return_free_within_m", "finite and >= 0", c.votes.no_return_free_within_m);
+    }
     if (c.votes.min_free_votes < 1) bad(who, "min_free_votes", ">= 1", c.votes.min_free_votes);
     if (!(c.votes.free_fraction >= 0.0 && c.votes.free_fraction <= 1.0)) {
         bad(who, "free_fraction", "in [0, 1]", c.votes.free_fraction);
@@ -79,26 +85,15 @@ DynamicDetector::DynamicDetector(const Dataset& dataset, DynamicRemovalConfig co
     rank_.resize(n);
     for (std::size_t r = 0; r < n; ++r) rank_[order_[r]] = r;
 
-    // Offsets: the first pass asks the window's ends and its middle (a point none of them saw
-    // through is static); the second pass the rest of the window and the far frames.
-    const int w = config_.window_frames, s = config_.window_stride;
-    std::set<int> first, all;
-    for (int o = s; o <= w; o += s) all.insert(o);
+    // Offsets, the largest first: a mover has moved most between far-apart scans. The first
+    // pass asks the first kFirstPass of them that exist for a frame (a point none of them saw
+    // through is static), the second pass the rest.
+    std::set<int> all;
+    for (int o = config_.window_stride; o <= config_.window_frames; o += config_.window_stride) all.insert(o);
     for (const int f : config_.far_frames) all.insert(f);
-    if (!all.empty()) {
-        const int last_in_window = w >= s ? (w / s) * s : *all.begin();
-        first.insert(last_in_window);
-        const int mid = std::max(s, ((last_in_window / 2) / s) * s);
-        if (all.count(mid)) first.insert(mid);
-    }
-    for (const int o : first) {
-        offsets_first_.push_back(-o);
-        offsets_first_.push_back(o);
-    }
-    for (const int o : all) {
-        if (first.count(o)) continue;
-        offsets_others_.push_back(-o);
-        offsets_others_.push_back(o);
+    for (auto it = all.rbegin(); it != all.rend(); ++it) {
+        offsets_.push_back(-*it);
+        offsets_.push_back(*it);
     }
 }
 
@@ -108,14 +103,11 @@ void DynamicDetector::neighbours(std::size_t frame, std::vector<std::size_t>& fi
     others.clear();
     const long r = static_cast<long>(rank_.at(frame));
     const long n = static_cast<long>(order_.size());
-    auto add = [&](const std::vector<int>& offsets, std::vector<std::size_t>& out) {
-        for (const int o : offsets) {
-            const long q = r + o;
-            if (q >= 0 && q < n) out.push_back(order_[static_cast<std::size_t>(q)]);
-        }
-    };
-    add(offsets_first_, first);
-    add(offsets_others_, others);
+    for (const int o : offsets_) {
+        const long q = r + o;
+        if (q < 0 || q >= n) continue;
+        (first.size() < kFirstPass ? first : others).push_back(order_[static_cast<std::size_t>(q)]);
+    }
 }
 
 const RangeImage& DynamicDetector::image(std::size_t frame) {
@@ -149,6 +141,7 @@ std::vector<std::uint8_t> DynamicDetector::detect(std::size_t frame,
     const std::size_t r = rank_.at(frame);
     evictBefore(r > static_cast<std::size_t>(max_offset) ? r - static_cast<std::size_t>(max_offset) : 0);
     {
+        Timer images_timer;
         // Build the missing images in parallel (usually the one or two newly in the window).
         std::vector<std::size_t> missing;
         for (const auto* list : {&first_frames, &other_frames}) {
@@ -165,6 +158,7 @@ std::vector<std::uint8_t> DynamicDetector::detect(std::size_t frame,
             images_.emplace(rank_[missing[i]], std::move(built[i]));
             ++stats_.images_built;
         }
+        stats_.images_s += images_timer.elapsedSeconds();
     }
     auto scans = [&](const std::vector<std::size_t>& frames) {
         std::vector<VoteScan> out;
@@ -174,13 +168,31 @@ std::vector<std::uint8_t> DynamicDetector::detect(std::size_t frame,
         return out;
     };
     if (!first_frames.empty() || !other_frames.empty()) {
+        Timer votes_timer;
         const Isometry3d& T_W_L = dataset_.frame(frame).T_W_L;
         const Eigen::Matrix3f R = T_W_L.linear().cast<float>();
         const Vec3f t = T_W_L.translation().cast<float>();
-        std::vector<Vec3f> points_W(points_L.size());
-        for (std::size_t i = 0; i < points_L.size(); ++i) points_W[i] = R * points_L[i] + t;
-        dynamic = dynamicByFreeSpace(points_W, scans(first_frames), scans(other_frames), config_.votes);
+        // Representatives: a point near the last tested one shares its decision.
+        const float share2 = static_cast<float>(config_.share_radius_m * config_.share_radius_m);
+        std::vector<Vec3f> tested_W;
+        std::vector<std::uint32_t> rep(points_L.size());
+        tested_W.reserve(points_L.size());
+        Vec3f last_L(1e30f, 1e30f, 1e30f);
+        for (std::size_t i = 0; i < points_L.size(); ++i) {
+            if ((points_L[i] - last_L).squaredNorm() > share2 || tested_W.empty()) {
+                last_L = points_L[i];
+                tested_W.push_back(R * points_L[i] + t);
+            }
+            rep[i] = static_cast<std::uint32_t>(tested_W.size() - 1);
+        }
+        std::size_t second = 0;
+        const std::vector<std::uint8_t> tested = dynamicByFreeSpace(
+            tested_W, scans(first_frames), scans(other_frames), config_.votes, &second);
+        for (std::size_t i = 0; i < points_L.size(); ++i) dynamic[i] = tested[rep[i]];
+        stats_.points_tested += tested_W.size();
+        stats_.points_second_pass += second;
         for (const std::uint8_t d : dynamic) stats_.points_free_space += d;
+        stats_.votes_s += votes_timer.elapsedSeconds();
     }
 
     // Labels: SemanticKITTI's moving classes.

@@ -41,7 +41,8 @@ RangeImage::RangeImage(const std::vector<Vec3f>& points_L, const RangeImageConfi
     inv_el_res_ = static_cast<float>(1.0 / el_res);
     cols_ = std::max(1, static_cast<int>(std::ceil(2.0 * kPi / az_res)));
     // Elevations first: the rows span the scan's own (a 26 deg HDL-64 scan: 132 rows).
-    std::vector<float> elevation(points_L.size());
+    thread_local std::vector<float> elevation;
+    elevation.resize(points_L.size());
     float el_min = 10.0f, el_max = -10.0f;
     for (std::size_t i = 0; i < points_L.size(); ++i) {
         const Vec3f& p = points_L[i];
@@ -72,42 +73,46 @@ RangeImage::RangeImage(const std::vector<Vec3f>& points_L, const RangeImageConfi
 
 void RangeImage::computeBrackets(const RangeImageConfig& config) {
     // Per column: the least range over the nearest non-empty row below, the row itself and the
-    // nearest non-empty row above; then the least of those over the neighbouring columns.
+    // nearest non-empty row above; then the least of those over the neighbouring columns. Row
+    // by row (the image is row-major), keeping per column the last non-empty row seen.
     const int search = std::max(0, config.elevation_search_px);
-    std::vector<float> vertical(range_.size(), kNoReturn);
-    std::vector<int> below(static_cast<std::size_t>(rows_)), above(static_cast<std::size_t>(rows_));
-    for (int c = 0; c < cols_; ++c) {
-        int last = -1;  // the last non-empty row seen going up
-        for (int r = 0; r < rows_; ++r) {
-            below[static_cast<std::size_t>(r)] = last;
-            if (range_[index(r, c)] != kNoReturn) last = r;
-        }
-        last = -1;
-        for (int r = rows_ - 1; r >= 0; --r) {
-            above[static_cast<std::size_t>(r)] = last;
-            if (range_[index(r, c)] != kNoReturn) last = r;
-        }
-        for (int r = 0; r < rows_; ++r) {
-            float v = range_[index(r, c)];
-            const int b = below[static_cast<std::size_t>(r)];
-            const int a = above[static_cast<std::size_t>(r)];
-            if (b >= 0 && r - b <= search) v = std::min(v, range_[index(b, c)]);
-            if (a >= 0 && a - r <= search) v = std::min(v, range_[index(a, c)]);
-            vertical[index(r, c)] = v;
+    const std::size_t cols = static_cast<std::size_t>(cols_);
+    thread_local std::vector<float> vertical;
+    thread_local std::vector<float> last_range;
+    thread_local std::vector<int> last_row;
+    vertical.assign(range_.size(), kNoReturn);
+    for (int pass = 0; pass < 2; ++pass) {  // 0: rows below (going up), 1: rows above (going down)
+        last_range.assign(cols, kNoReturn);
+        last_row.assign(cols, -(1 << 20));
+        for (int k = 0; k < rows_; ++k) {
+            const int r = pass == 0 ? k : rows_ - 1 - k;
+            const float* row = &range_[index(r, 0)];
+            float* out = &vertical[index(r, 0)];
+            for (std::size_t c = 0; c < cols; ++c) {
+                float v = std::min(out[c], row[c]);
+                if (std::abs(r - last_row[c]) <= search) v = std::min(v, last_range[c]);
+                out[c] = v;
+                if (row[c] != kNoReturn) {
+                    last_range[c] = row[c];
+                    last_row[c] = r;
+                }
+            }
         }
     }
     const int radius = std::max(0, std::min(config.azimuth_radius_px, cols_ / 2));
-    bracket_.assign(range_.size(), kNoReturn);
+    bracket_.resize(range_.size());
     for (int r = 0; r < rows_; ++r) {
+        const float* in = &vertical[index(r, 0)];
+        float* out = &bracket_[index(r, 0)];
         for (int c = 0; c < cols_; ++c) {
             float v = kNoReturn;
             for (int dc = -radius; dc <= radius; ++dc) {
                 int cc = c + dc;
                 if (cc < 0) cc += cols_;
                 if (cc >= cols_) cc -= cols_;
-                v = std::min(v, vertical[index(r, cc)]);
+                v = std::min(v, in[cc]);
             }
-            bracket_[index(r, c)] = v;
+            out[c] = v;
         }
     }
 }
@@ -115,9 +120,9 @@ void RangeImage::computeBrackets(const RangeImageConfig& config) {
 float RangeImage::bracketRange(const Vec3f& p_L, float& range_m) const {
     const float xy2 = p_L.x() * p_L.x() + p_L.y() * p_L.y();
     range_m = std::sqrt(xy2 + p_L.z() * p_L.z());
-    if (rows_ == 0 || range_m == 0.0f) return kNoReturn;
+    if (rows_ == 0 || range_m == 0.0f) return kOutside;
     const float row_f = (fastAtan2(p_L.z(), std::sqrt(xy2)) - elevation_min_rad_) * inv_el_res_;
-    if (!(row_f >= 0.0f) || row_f >= static_cast<float>(rows_)) return kNoReturn;
+    if (!(row_f >= 0.0f) || row_f >= static_cast<float>(rows_)) return kOutside;
     return bracket_[index(static_cast<int>(row_f), column(fastAtan2(p_L.y(), p_L.x())))];
 }
 

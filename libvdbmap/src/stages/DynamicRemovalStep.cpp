@@ -35,7 +35,11 @@ void declareDynamicOptions(OptionSpec& spec, DynamicRemovalConfig& c) {
     spec.add("dynamic_free_fraction",
              "And at least this fraction of the scans that saw the point's place (through it or "
              "at it; scans with something in front do not count)",
-             c.votes.free_fraction, 0.5);
+             c.votes.free_fraction, 0.0);
+    spec.add("dynamic_no_return_free_within_m",
+             "A scan with no return at all around a point's direction (sky behind it) saw through "
+             "it if the point is closer to that scan than this (0 = never)",
+             c.votes.no_return_free_within_m, 40.0, "m");
     spec.add("dynamic_azimuth_res_deg", "Column width of the range images", c.image.azimuth_res_deg,
              0.2, "deg");
     spec.add("dynamic_elevation_res_deg",
@@ -47,6 +51,10 @@ void declareDynamicOptions(OptionSpec& spec, DynamicRemovalConfig& c) {
     spec.add("dynamic_elevation_search_px",
              "Rows searched below and above a point for the nearest ring", c.image.elevation_search_px,
              8, "pixels");
+    spec.add("dynamic_share_radius_m",
+             "A point this close to the last tested point before it in the scan shares its "
+             "decision (0 = test every point)",
+             c.share_radius_m, 0.1, "m");
     spec.add("dynamic_use_labels",
              "Also remove points whose LiDAR label (when the dataset has them) is a moving class "
              "252-259",
@@ -101,8 +109,12 @@ void DynamicRemovalStep::finish(Context& ctx, const std::string& stage) const {
     r.set(key("points_free_space"), s.points_free_space);
     r.set(key("points_label"), s.points_label);
     r.set(key("scans_with_labels"), s.scans_with_labels);
+    r.set(key("points_tested"), s.points_tested);
+    r.set(key("points_second_pass"), s.points_second_pass);
     r.set(key("range_images"), s.images_built);
     r.set(key("seconds"), s.seconds);
+    r.set(key("range_images_s"), s.images_s);
+    r.set(key("votes_s"), s.votes_s);
     r.set(key("time_order"), detector_->timeOrder());
     if (detector_->timeOrder() == "frame_order") {
         r.set(key("time_order_note"), "the dataset has no timestamps: neighbours in time are "

@@ -27,6 +27,10 @@ struct DynamicRemovalConfig {
     /// Points whose SemanticKITTI class (lower 16 bits of the .label entry) is a moving class,
     /// 252..259, are dynamic too, when the dataset has LiDAR labels.
     bool use_labels = true;
+    /// A point within this distance of the last tested point before it in the scan (the scan
+    /// order follows the rings) takes that point's decision instead of its own test: near the
+    /// sensor several returns fall in one voxel, and the map cannot tell them apart anyway.
+    double share_radius_m = 0.1;
     RangeImageConfig image;
     FreeSpaceVoteConfig votes;
 };
@@ -48,8 +52,12 @@ struct DynamicStats {
     std::size_t points_free_space = 0;   ///< of which by the free-space votes
     std::size_t points_label = 0;        ///< of which by a moving label
     std::size_t scans_with_labels = 0;
+    std::size_t points_tested = 0;       ///< representatives tested (the others share)
+    std::size_t points_second_pass = 0;  ///< points some first-pass scan saw through
     std::size_t images_built = 0;        ///< range images made (each frame at most once per pass)
     double seconds = 0.0;                ///< wall time in detect(), images and label reads included
+    double images_s = 0.0;               ///< of which reading neighbours and making their images
+    double votes_s = 0.0;                ///< of which the free-space votes
 };
 
 /// Moving-object detection for the scans of one dataset, scan by scan, before integration.
@@ -70,8 +78,8 @@ public:
                                      const std::vector<std::uint32_t>& index,
                                      std::size_t points_in_file);
 
-    /// The frames scan `frame` is tested against: first the few of the first pass, then the
-    /// rest (tests, docs).
+    /// The frames scan `frame` is tested against, the furthest in time first: the first 4 that
+    /// exist are the first pass, the rest the second (tests, docs).
     void neighbours(std::size_t frame, std::vector<std::size_t>& first,
                     std::vector<std::size_t>& others) const;
     /// "timestamps" or "frame_order" (the dataset has no increasing timestamps).
@@ -88,7 +96,8 @@ private:
     std::vector<std::size_t> order_;  ///< frames in time order
     std::vector<std::size_t> rank_;   ///< position of each frame in order_
     std::string time_order_;
-    std::vector<int> offsets_first_, offsets_others_;
+    static constexpr std::size_t kFirstPass = 4;
+    std::vector<int> offsets_;  ///< -o, +o for each offset o, largest first
     std::map<std::size_t, std::unique_ptr<RangeImage>> images_;  ///< by time rank
     DynamicStats stats_;
 };

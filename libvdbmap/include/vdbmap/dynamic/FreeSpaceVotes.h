@@ -21,7 +21,10 @@ struct FreeSpaceVoteConfig {
     /// free_fraction of the scans that saw p's place (through it, or a return within the margin
     /// of p) saw through it. Occluded scans (a return in front of p) do not count either way.
     int min_free_votes = 2;
-    double free_fraction = 0.5;
+    /// A scan with no return at all around p's direction (the sky behind a tall vehicle) saw
+    /// through p if p is closer to it than this (well within the sensor's range); 0 = never.
+    double no_return_free_within_m = 40.0;
+    double free_fraction = 0.0;
 };
 
 /// One other scan to test against: its range image and its pose.
@@ -37,7 +40,9 @@ struct PointVotes {
 };
 
 /// The votes of `scans` for the point p_W: for each scan, "free" if its bracket range is beyond
-/// |p - o| + margin, "hit" if within the margin, nothing if in front (occluded) or unknown.
+/// |p - o| + margin (or it has no return around p's direction and p is within
+/// no_return_free_within_m), "hit" if within the margin, nothing if in front (occluded) or
+/// outside its image.
 PointVotes voteFreeSpace(const Vec3f& p_W, const std::vector<VoteScan>& scans,
                          const FreeSpaceVoteConfig& config);
 
@@ -51,10 +56,12 @@ inline bool isDynamic(const PointVotes& v, const FreeSpaceVoteConfig& config) {
 /// else 0. Two passes: the `first` scans (a few spread over the window) first; a point none of
 /// them saw through is static without asking the others (most points: the test's cost is
 /// about first.size() look-ups per static point). The others are then asked only for the
-/// remaining points, and the decision counts the votes of both. Parallel over points (TBB).
+/// remaining points, and the decision counts the votes of both; `second_pass` (may be null)
+/// gets their number. Parallel over points (TBB).
 std::vector<std::uint8_t> dynamicByFreeSpace(const std::vector<Vec3f>& points_W,
                                              const std::vector<VoteScan>& first,
                                              const std::vector<VoteScan>& others,
-                                             const FreeSpaceVoteConfig& config);
+                                             const FreeSpaceVoteConfig& config,
+                                             std::size_t* second_pass = nullptr);
 
 }  // namespace vdbmap

@@ -34,6 +34,8 @@ struct RangeImageConfig {
 class RangeImage {
 public:
     static constexpr float kNoReturn = std::numeric_limits<float>::infinity();
+    /// The direction is outside the image's rows (or the image is empty): no evidence.
+    static constexpr float kOutside = -1.0f;
 
     RangeImage() = default;
     /// The image of `points_L` (a scan in its sensor frame; points at the origin are ignored).
@@ -41,8 +43,8 @@ public:
     RangeImage(const std::vector<Vec3f>& points_L, const RangeImageConfig& config);
 
     /// The bracket range (metres) of the pixel holding the direction of `p_L` (LiDAR frame),
-    /// kNoReturn if no return brackets it (outside the rows, or every row nearby empty);
-    /// `range_m` gets |p_L|.
+    /// kNoReturn if no return brackets it (every row nearby empty: the sky, or nothing within
+    /// the sensor's range), kOutside if the direction is outside the rows; `range_m` gets |p_L|.
     float bracketRange(const Vec3f& p_L, float& range_m) const;
 
     int rows() const { return rows_; }
