@@ -51,4 +51,16 @@ grep -q '\"frames\": 1' '${_rig_run}/b.json'")
                 "vdbmap eval: --run ${_run}_missing: not a folder"
                 $<TARGET_FILE:vdbmap_app> eval --gt ${_seq}/gt --run ${_run}_missing)
     set_tests_properties(eval_cli_missing_run_fails PROPERTIES DEPENDS sim_cli_street_tiny)
+    # Traffic (issue 33): the static truth has no ghost, a run without removal has some.
+    set(_traffic ${CMAKE_CURRENT_BINARY_DIR}/sim_eval_cli/traffic)
+    set(_traffic_run ${CMAKE_CURRENT_BINARY_DIR}/sim_eval_cli/traffic_run)
+    add_test(NAME sim_cli_traffic_tiny
+        COMMAND $<TARGET_FILE:vdbmap_sim> street -o ${_traffic} --frames 3 --traffic 2
+                --no-images --gt-views 0 --quiet --threads 1)
+    add_test(NAME eval_cli_traffic_ghosts
+        COMMAND sh -c "mkdir -p '${_traffic_run}/gt_copy' && cp '${_traffic}/gt/mesh.ply' '${_traffic_run}/gt_copy/mesh.ply' && '$<TARGET_FILE:vdbmap_app>' eval --gt '${_traffic}/gt' --run '${_traffic_run}/gt_copy' --json '${_traffic_run}/gt.json' --quiet && '$<TARGET_FILE:vdbmap_app>' run '${PROJECT_SOURCE_DIR}/config/experiments/street.yaml' --set dataset.path='${_traffic}' --set integrate.atsdf.voxel_size_m=0.2 -o '${_traffic_run}/run' --quiet && '$<TARGET_FILE:vdbmap_app>' eval --gt '${_traffic}/gt' --run '${_traffic_run}/run' --json '${_traffic_run}/run.json' --quiet && python3 -c \"import json, sys; g = json.load(open(sys.argv[1]))['traffic']; r = json.load(open(sys.argv[2]))['traffic']; assert g['ghost_area_m2'] == 0 and g['swept_ground_area_m2'] > 50 and g['moving_points'] is None, g; assert r['ghost_area_m2'] > 5 and r['ghost_fraction'] > 0, r\" '${_traffic_run}/gt.json' '${_traffic_run}/run.json'")
+    set_tests_properties(eval_cli_traffic_ghosts PROPERTIES DEPENDS sim_cli_traffic_tiny)
+    add_test(NAME sim_cli_traffic_suv_rejected
+        COMMAND bash ${_expect_exit} 2 "vdbmap-sim: --traffic is for the street scene, not 'suv'"
+                $<TARGET_FILE:vdbmap_sim> suv -o ${_traffic}_suv --traffic 1)
 endif()

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "Commands.h"
+#include "EvalTraffic.h"
 #include "vdbmap/Error.h"
 #include "vdbmap/eval/CameraCoverage.h"
 #include "vdbmap/eval/GeometryMetrics.h"
@@ -552,6 +553,13 @@ void runEval(const EvalArgs& args, int& exit_code) {
               << " missing)\n";
         report["texture"] = nullptr;
     }
+
+    // Issue 33: with gt/movers.json (vdbmap-sim --traffic), the ghosts of the movers and the
+    // scores of dynamic_points.ply.
+    TrafficEvalOptions traffic_options;
+    traffic_options.sample_spacing_m = args.sample_spacing_m;
+    nlohmann::json traffic = evalTraffic(gt_dir, run, *gt.raycaster, traffic_options, table);
+    if (!traffic.is_null()) report["traffic"] = std::move(traffic);
 
     if (!args.json_path.empty()) writeReport(args.json_path, report);
     if (!args.quiet) std::cout << table.str();
