@@ -16,6 +16,12 @@
 namespace vdbmap {
 
 void filterScan(PointCloud& cloud, double min_range_m, double max_range_m, ScanReadStats* stats) {
+    filterScan(cloud, min_range_m, max_range_m, stats, nullptr);
+}
+
+void filterScan(PointCloud& cloud, double min_range_m, double max_range_m, ScanReadStats* stats,
+                std::vector<std::uint32_t>* kept_index) {
+    if (kept_index) kept_index->clear();
     const bool has_intensity = cloud.intensity.size() == cloud.points.size();
     const double min2 = min_range_m * min_range_m;
     const double max2 = max_range_m * max_range_m;
@@ -44,6 +50,7 @@ void filterScan(PointCloud& cloud, double min_range_m, double max_range_m, ScanR
             cloud.points[kept] = p;
             if (has_intensity) cloud.intensity[kept] = cloud.intensity[i];
         }
+        if (kept_index) kept_index->push_back(static_cast<std::uint32_t>(i));
         ++kept;
     }
     if (stats != nullptr) {
@@ -102,8 +109,13 @@ PointCloud Dataset::loadScan(std::size_t i, ScanReadStats* stats) const {
 }
 
 void Dataset::loadScan(std::size_t i, PointCloud& cloud, ScanReadStats* stats) const {
+    loadScan(i, cloud, stats, nullptr);
+}
+
+void Dataset::loadScan(std::size_t i, PointCloud& cloud, ScanReadStats* stats,
+                       std::vector<std::uint32_t>* kept_index) const {
     readPointCloud(frame(i).scan_path, cloud);
-    filterScan(cloud, config_.min_range_m, config_.max_range_m, stats);
+    filterScan(cloud, config_.min_range_m, config_.max_range_m, stats, kept_index);
 }
 
 Isometry3d Dataset::T_W_C(std::size_t i, std::size_t cam) const {

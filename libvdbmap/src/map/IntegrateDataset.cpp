@@ -19,15 +19,22 @@ namespace {
 
 struct LoadedScan {
     PointCloud cloud;
+    std::vector<std::uint32_t> index;  ///< with a filter: each point's index in the file
     ScanReadStats stats;
     RingSpacing rings;  ///< estimated by the reader if the integrator uses them
 };
 
 /// Scan i, read into `reuse`'s storage (the scan before last: no allocation per scan), and its
 /// rings if `rings` (the reader's work rather than the integrating threads').
-LoadedScan load(const Dataset& dataset, std::size_t i, bool rings, LoadedScan reuse) {
+LoadedScan load(const Dataset& dataset, std::size_t i, bool rings, const ScanFilter* filter,
+                LoadedScan reuse) {
     reuse.stats = ScanReadStats{};
-    dataset.loadScan(i, reuse.cloud, &reuse.stats);
+    if (filter != nullptr && *filter) {
+        dataset.loadScan(i, reuse.cloud, &reuse.stats, &reuse.index);
+        (*filter)(i, reuse.cloud, reuse.index, reuse.stats.points_read);
+    } else {
+        dataset.loadScan(i, reuse.cloud, &reuse.stats);
+    }
     reuse.rings = rings ? RingSpacing::estimate(reuse.cloud.points) : RingSpacing{};
     return reuse;
 }
@@ -40,8 +47,8 @@ LoadedScan load(const Dataset& dataset, std::size_t i, bool rings, LoadedScan re
 /// get a thread of its own, so that reading still overlaps integration.
 class ReadAhead {
 public:
-    ReadAhead(const Dataset& dataset, bool rings)
-        : dataset_(dataset), rings_(rings), as_task_(threads() > 1) {}
+    ReadAhead(const Dataset& dataset, bool rings, const ScanFilter* filter)
+        : dataset_(dataset), rings_(rings), filter_(filter), as_task_(threads() > 1) {}
     /// A read still in flight here means the loop is unwinding from another exception (every
     /// read started is taken otherwise): wait for it, and drop its own error.
     ~ReadAhead() {
@@ -58,9 +65,10 @@ public:
     void start(std::size_t frame, LoadedScan reuse) {
         if (as_task_) {
             slot_ = std::move(reuse);
-            group_.run([this, frame] { slot_ = load(dataset_, frame, rings_, std::move(slot_)); });
+            group_.run([this, frame] { slot_ = load(dataset_, frame, rings_, filter_, std::move(slot_)); });
         } else {
-            thread_ = std::async(std::launch::async, load, std::cref(dataset_), frame, rings_, std::move(reuse));
+            thread_ = std::async(std::launch::async, load, std::cref(dataset_), frame, rings_, filter_,
+                                 std::move(reuse));
         }
     }
     /// The scan started last; rethrows its read error.
@@ -79,6 +87,7 @@ private:
 
     const Dataset& dataset_;
     const bool rings_;
+    const ScanFilter* filter_;
     const bool as_task_;
     tbb::task_group group_;
     LoadedScan slot_;  ///< the task's scan
@@ -97,12 +106,19 @@ DatasetIntegration integrateDataset(const Dataset& dataset, AtsdfIntegrator& int
                                     const std::vector<std::size_t>& frames,
                                     const std::function<void(std::size_t)>& on_scan,
                                     bool read_ahead) {
+    return integrateDataset(dataset, integrator, frames, on_scan, ScanFilter{}, read_ahead);
+}
+
+DatasetIntegration integrateDataset(const Dataset& dataset, AtsdfIntegrator& integrator,
+                                    const std::vector<std::size_t>& frames,
+                                    const std::function<void(std::size_t)>& on_scan,
+                                    const ScanFilter& filter, bool read_ahead) {
     DatasetIntegration out;
     Timer total;
     const std::size_t n = frames.size();
     for (const std::size_t f : frames) (void)dataset.frame(f);  // out_of_range before reading
     const bool rings = integrator.usesRings();
-    ReadAhead next(dataset, rings);
+    ReadAhead next(dataset, rings, &filter);
     if (read_ahead && n > 0) next.start(frames[0], LoadedScan{});
     LoadedScan scan;  // the scan being integrated
     for (std::size_t k = 0; k < n; ++k) {
@@ -115,7 +131,7 @@ DatasetIntegration integrateDataset(const Dataset& dataset, AtsdfIntegrator& int
             if (k + 1 < n) next.start(frames[k + 1], std::move(spare));
         } else {
             Timer wait;
-            scan = load(dataset, i, rings, std::move(scan));
+            scan = load(dataset, i, rings, &filter, std::move(scan));
             out.read_wait_s += wait.elapsedSeconds();
         }
         add(out.read, scan.stats);

@@ -88,6 +88,10 @@ std::vector<std::size_t> Context::beginScanStream(double update_reach_m) {
     return all;
 }
 
+int Context::process() const { return stream_ ? stream_->process() : 0; }
+
+int Context::processes() const { return stream_ ? stream_->processes() : 1; }
+
 void Context::scanIntegrated(std::size_t frame) {
     if (stream_) stream_->frameIntegrated(frame);
 }

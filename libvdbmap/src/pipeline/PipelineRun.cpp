@@ -19,6 +19,7 @@
 #include "vdbmap/map/VoxelMap.h"
 #include "vdbmap/pipeline/Context.h"
 #include "vdbmap/pipeline/ProcessGroup.h"
+#include "vdbmap/dynamic/DynamicPoints.h"
 #include "vdbmap/pipeline/Report.h"
 
 namespace vdbmap {
@@ -311,6 +312,14 @@ private:
             distributed() ? group_.allGather(mine.dump()) : std::vector<std::string>{mine.dump()};
         gatherMap();
         if (!root()) return;
+        if (distributed()) {
+            // Every process left its removed points as a part (integrate.atsdf); one file.
+            const std::size_t n = mergeDynamicPointParts(output_dir_, group_.size());
+            if (fs::exists(output_dir_ / "dynamic_points.ply")) {
+                report_.set({"outputs", "dynamic_points"}, (output_dir_ / "dynamic_points.ply").string());
+                report_.set({"counts", "dynamic_points"}, n);
+            }
+        }
         std::vector<TileOutcome> outcomes;
         TileSummary summary;
         nlohmann::json processes = nlohmann::json::array();

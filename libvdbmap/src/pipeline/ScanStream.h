@@ -20,6 +20,9 @@ public:
     virtual bool begun() const = 0;
     /// The frames begin() returned.
     virtual const std::vector<std::size_t>& frames() const = 0;
+    /// This process and the number of processes of a distributed run (0 and 1 otherwise).
+    virtual int process() const { return 0; }
+    virtual int processes() const { return 1; }
 };
 
 }  // namespace vdbmap

@@ -77,6 +77,8 @@ public:
     void frameIntegrated(std::size_t frame) override;
     bool begun() const override { return plan_.has_value(); }
     const std::vector<std::size_t>& frames() const override { return frames_; }
+    int process() const override { return setup_.process; }
+    int processes() const override { return setup_.processes; }
 
     /// Finishes every tile not finished yet. Without begin() (no stage integrated scans
     /// through the stream) the tiles are those of the map's leaves, spread over the processes.

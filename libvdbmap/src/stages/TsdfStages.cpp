@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "stages/TsdfStages.h"
+#include "stages/DynamicRemovalStep.h"
 
 #include <openvdb/openvdb.h>
 
@@ -136,6 +137,7 @@ public:
                  "Scans a leaf stays dense after the last scan that could update it; then it moves "
                  "to the compact store (lossless: only memory and time depend on it)",
                  config_.working_set_scans, d.working_set_scans);
+        declareDynamicOptions(spec, dynamic_);
     }
     void initialize() override {
         if (!(voxel_size_m_ >= kMinVoxelSizeM) || !std::isfinite(voxel_size_m_)) {
@@ -157,6 +159,7 @@ public:
         }
         validateAtsdfConfig(config_, voxel_size_m_, std::string(name()));
         resolved_ = resolveAtsdfConfig(config_, voxel_size_m_);
+        validateDynamicRemovalConfig(dynamic_, std::string(name()));
     }
     void declareLayers(LayerSpec& spec) const override {
         spec.reads(layers::kScans);
@@ -173,15 +176,22 @@ public:
         const double leaf_m = 8.0 * voxel_size_m_;
         const std::vector<std::size_t> frames =
             ctx.beginScanStream(maxUpdateReach(resolved_, voxel_size_m_) + 4.0 * leaf_m);
+        // Moving objects out of the map (issue 33): each scan's dynamic points are dropped
+        // before it is integrated, in the read-ahead task (docs/dynamic.md).
+        DynamicRemovalStep dynamic(ctx, dynamic_);
         DatasetIntegration run;
         {
             // Scan i + 1 is read while scan i is integrated (integrateDataset).
             Progress progress("integrate.atsdf", frames.size(), ctx.quiet());
-            run = integrateDataset(dataset, integrator, frames, [&](std::size_t frame) {
-                progress.tick();
-                ctx.scanIntegrated(frame);
-            });
+            run = integrateDataset(
+                dataset, integrator, frames,
+                [&](std::size_t frame) {
+                    progress.tick();
+                    ctx.scanIntegrated(frame);
+                },
+                dynamic.filter());
         }
+        dynamic.finish(ctx, std::string(name()));
         const ScanReadStats& read_total = run.read;
         const double seconds = run.seconds - run.on_scan_s;
         integrator.finalize();
@@ -238,6 +248,7 @@ private:
     std::string merge_points_;
     AtsdfConfig config_;    ///< as given (voxel counts, kMergeAuto)
     AtsdfConfig resolved_;  ///< at voxel_size_m_, for the report
+    DynamicRemovalConfig dynamic_;
 };
 
 /// mesh.marching_cubes: zero level set of the tsdf as a welded triangle mesh.

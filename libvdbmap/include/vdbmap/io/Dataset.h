@@ -86,6 +86,10 @@ struct ScanReadStats {
 /// adds the counts to `stats` (may be null). `points_read` counts the points before dropping.
 void filterScan(PointCloud& cloud, double min_range_m, double max_range_m,
                 ScanReadStats* stats = nullptr);
+/// The same; `kept_index` (may be null) receives, for each kept point, its index in the cloud
+/// as given (the point's index in its scan file).
+void filterScan(PointCloud& cloud, double min_range_m, double max_range_m, ScanReadStats* stats,
+                std::vector<std::uint32_t>* kept_index);
 
 /// One frame of a sequence.
 struct FrameInfo {
@@ -132,6 +136,9 @@ public:
     PointCloud loadScan(std::size_t i, ScanReadStats* stats = nullptr) const;
     /// Same into `cloud`, reusing its storage (a .bin scan is read without allocating).
     void loadScan(std::size_t i, PointCloud& cloud, ScanReadStats* stats = nullptr) const;
+    /// The same; `kept_index` (may be null) gets each kept point's index in the scan file.
+    void loadScan(std::size_t i, PointCloud& cloud, ScanReadStats* stats,
+                  std::vector<std::uint32_t>* kept_index) const;
 
     /// Camera pose T_W_C = T_W_L * T_C_L^-1 of camera `cam` at frame i.
     Isometry3d T_W_C(std::size_t i, std::size_t cam) const;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -30,6 +31,18 @@ DatasetIntegration integrateDataset(const Dataset& dataset, AtsdfIntegrator& int
                                     const std::vector<std::size_t>& frames,
                                     const std::function<void(std::size_t)>& on_scan = {},
                                     bool read_ahead = true);
+/// Called on each scan after it is read and range-filtered, before it is integrated: may drop
+/// points of `cloud_L` (LiDAR frame; keep intensity aligned). `index` holds each point's index
+/// in the scan file and `points_in_file` that file's point count. It runs in the read-ahead
+/// task, one scan at a time, frames in the order integrated.
+using ScanFilter = std::function<void(std::size_t frame, PointCloud& cloud_L,
+                                      const std::vector<std::uint32_t>& index,
+                                      std::size_t points_in_file)>;
+/// The same, with `filter` applied to each scan (empty: none).
+DatasetIntegration integrateDataset(const Dataset& dataset, AtsdfIntegrator& integrator,
+                                    const std::vector<std::size_t>& frames,
+                                    const std::function<void(std::size_t)>& on_scan,
+                                    const ScanFilter& filter, bool read_ahead = true);
 /// The same over every frame of `dataset`.
 DatasetIntegration integrateDataset(const Dataset& dataset, AtsdfIntegrator& integrator,
                                     const std::function<void()>& on_scan = {}, bool read_ahead = true);

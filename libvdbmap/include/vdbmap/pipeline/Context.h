@@ -104,6 +104,11 @@ public:
     /// context those whose scans can reach the tile (all frames if the run was not planned
     /// from the poses), else the frames of beginScanStream() (all frames before it).
     std::vector<std::size_t> scanFrames() const;
+    /// This process's rank and the number of processes of a distributed run (vdbmap-mpi);
+    /// 0 and 1 otherwise. A stage writing one run-wide file writes it only when processes()
+    /// is 1, or leaves a part for process 0 to merge (dynamic_points.ply).
+    int process() const;
+    int processes() const;
 
 private:
     friend class ContextBuilder;  ///< the pipeline's setters (src/pipeline/ContextBuilder.h)

@@ -1,0 +1,105 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "vdbmap/core/Types.h"
+#include "vdbmap/dynamic/FreeSpaceVotes.h"
+#include "vdbmap/dynamic/RangeImage.h"
+
+namespace vdbmap {
+
+class Dataset;
+
+/// The options of moving-object removal (integrate.atsdf `dynamic_removal:`, docs/dynamic.md).
+struct DynamicRemovalConfig {
+    bool enabled = true;
+    /// Scan k is tested against the scans k +- window_stride, k +- 2 window_stride, ... up to
+    /// k +- window_frames (in time order), and k +- each of far_frames.
+    int window_frames = 10;
+    int window_stride = 2;
+    std::vector<int> far_frames = {20, 30};
+    /// Points whose SemanticKITTI class (lower 16 bits of the .label entry) is a moving class,
+    /// 252..259, are dynamic too, when the dataset has LiDAR labels.
+    bool use_labels = true;
+    /// A point within this distance of the last tested point before it in the scan (the scan
+    /// order follows the rings) takes that point's decision instead of its own test: near the
+    /// sensor several returns fall in one voxel, and the map cannot tell them apart anyway.
+    double share_radius_m = 0.1;
+    RangeImageConfig image;
+    FreeSpaceVoteConfig votes;
+};
+
+/// Throws ConfigError naming `who` and the option for a value out of range.
+void validateDynamicRemovalConfig(const DynamicRemovalConfig& config, const std::string& who);
+
+/// True for SemanticKITTI's moving classes 252..259 (moving car, bicyclist, person,
+/// motorcyclist, on-rails, truck, other vehicle; docs/DATA.md).
+inline bool isMovingClass(std::uint16_t semantic_kitti_class) {
+    return semantic_kitti_class >= 252 && semantic_kitti_class <= 259;
+}
+
+/// Counts of the detection, summed over scans.
+struct DynamicStats {
+    std::size_t scans = 0;
+    std::size_t points_in = 0;
+    std::size_t points_dynamic = 0;      ///< removed: free space or label
+    std::size_t points_free_space = 0;   ///< of which by the free-space votes
+    std::size_t points_label = 0;        ///< of which by a moving label
+    std::size_t scans_with_labels = 0;
+    std::size_t points_tested = 0;       ///< representatives tested (the others share)
+    std::size_t points_second_pass = 0;  ///< points some first-pass scan saw through
+    std::size_t images_built = 0;        ///< range images made (each frame at most once per pass)
+    double seconds = 0.0;                ///< wall time in detect(), images and label reads included
+    double images_s = 0.0;               ///< of which reading neighbours and making their images
+    double votes_s = 0.0;                ///< of which the free-space votes
+};
+
+/// Moving-object detection for the scans of one dataset, scan by scan, before integration.
+/// The decision for a scan depends only on the dataset (its neighbours are read from it
+/// whichever frames a run integrates), so tiled, untiled and distributed runs remove the same
+/// points. Keeps the range images of the frames within reach of the window (frames asked for
+/// in ascending time order reuse them; any order is correct). Not thread-safe: one scan at a
+/// time (detect() itself is parallel).
+class DynamicDetector {
+public:
+    DynamicDetector(const Dataset& dataset, DynamicRemovalConfig config);
+
+    /// Flags (1 = dynamic) for the points of frame `frame` as the dataset reads them
+    /// (`points_L`, in the LiDAR frame), `index` their indices in the scan file and
+    /// `points_in_file` the file's point count (for the label check). Throws IoError for a
+    /// label file that does not match its scan, what Dataset::loadScan throws for a neighbour.
+    std::vector<std::uint8_t> detect(std::size_t frame, const std::vector<Vec3f>& points_L,
+                                     const std::vector<std::uint32_t>& index,
+                                     std::size_t points_in_file);
+
+    /// The frames scan `frame` is tested against, the furthest in time first: the first 4 that
+    /// exist are the first pass, the rest the second (tests, docs).
+    void neighbours(std::size_t frame, std::vector<std::size_t>& first,
+                    std::vector<std::size_t>& others) const;
+    /// "timestamps" or "frame_order" (the dataset has no increasing timestamps).
+    const std::string& timeOrder() const { return time_order_; }
+    const DynamicStats& stats() const { return stats_; }
+    const DynamicRemovalConfig& config() const { return config_; }
+
+private:
+    const RangeImage& image(std::size_t frame);
+    void evictBefore(std::size_t rank);
+
+    const Dataset& dataset_;
+    DynamicRemovalConfig config_;
+    std::vector<std::size_t> order_;  ///< frames in time order
+    std::vector<std::size_t> rank_;   ///< position of each frame in order_
+    std::string time_order_;
+    static constexpr std::size_t kFirstPass = 4;
+    std::vector<int> offsets_;  ///< -o, +o for each offset o, largest first
+    std::map<std::size_t, std::unique_ptr<RangeImage>> images_;  ///< by time rank
+    DynamicStats stats_;
+};
+
+}  // namespace vdbmap

@@ -1,0 +1,217 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "vdbmap/dynamic/DynamicDetector.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <set>
+#include <sstream>
+
+#include "vdbmap/Error.h"
+#include "vdbmap/core/Timer.h"
+#include "vdbmap/io/Dataset.h"
+#include "vdbmap/io/LidarLabels.h"
+
+namespace vdbmap {
+
+namespace {
+
+[[noreturn]] void bad(const std::string& who, const std::string& key, const std::string& what,
+                      double value) {
+    std::ostringstream os;
+    os << who << ": option 'dynamic_removal." << key << "' must be " << what << ", got " << value;
+    throw ConfigError(os.str());
+}
+
+}  // namespace
+
+void validateDynamicRemovalConfig(const DynamicRemovalConfig& c, const std::string& who) {
+    if (c.window_frames < 0) bad(who, "window_frames", ">= 0", c.window_frames);
+    if (c.window_stride < 1) bad(who, "window_stride", ">= 1", c.window_stride);
+    for (const int f : c.far_frames) {
+        if (f < 1) bad(who, "far_frames", "a list of frame offsets >= 1", f);
+    }
+    if (!(c.image.azimuth_res_deg > 0.0 && c.image.azimuth_res_deg <= 10.0)) {
+        bad(who, "azimuth_res_deg", "in (0, 10]", c.image.azimuth_res_deg);
+    }
+    if (!(c.image.elevation_res_deg > 0.0 && c.image.elevation_res_deg <= 10.0)) {
+        bad(who, "elevation_res_deg", "in (0, 10]", c.image.elevation_res_deg);
+    }
+    if (c.image.azimuth_radius_px < 0 || c.image.azimuth_radius_px > 100) {
+        bad(who, "azimuth_radius_px", "in [0, 100]", c.image.azimuth_radius_px);
+    }
+    if (c.image.elevation_search_px < 0 || c.image.elevation_search_px > 1000) {
+        bad(who, "elevation_search_px", "in [0, 1000]", c.image.elevation_search_px);
+    }
+    if (!(c.votes.margin_m >= 0.0) || !std::isfinite(c.votes.margin_m)) {
+        bad(who, "margin_m", "finite and >= 0", c.votes.margin_m);
+    }
+    if (!(c.votes.margin_per_m >= 0.0) || !std::isfinite(c.votes.margin_per_m)) {
+        bad(who, "margin_per_m", "finite and >= 0", c.votes.margin_per_m);
+    }
+    if (!(c.share_radius_m >= 0.0) || !std::isfinite(c.share_radius_m)) {
+        bad(who, "share_radius_m", "finite and >= 0", c.share_radius_m);
+    }
+    if (!(c.votes.no_return_free_within_m >= 0.0) || !std::isfinite(c.votes.no_return_free_within_m)) {
+        bad(who, "no_return_free_within_m", "finite and >= 0", c.votes.no_return_free_within_m);
+    }
+    if (c.votes.min_free_votes < 1) bad(who, "min_free_votes", ">= 1", c.votes.min_free_votes);
+    if (!(c.votes.free_fraction >= 0.0 && c.votes.free_fraction <= 1.0)) {
+        bad(who, "free_fraction", "in [0, 1]", c.votes.free_fraction);
+    }
+}
+
+DynamicDetector::DynamicDetector(const Dataset& dataset, DynamicRemovalConfig config)
+    : dataset_(dataset), config_(std::move(config)) {
+    const std::size_t n = dataset_.numFrames();
+    order_.resize(n);
+    std::iota(order_.begin(), order_.end(), std::size_t(0));
+    // Time order from the timestamps when the dataset has them (not all equal); else the
+    // frame order, which report.json says (issue 33: "uses the frame order and says so").
+    bool stamped = false;
+    for (std::size_t i = 1; i < n && !stamped; ++i) {
+        stamped = dataset_.frame(i).timestamp_s != dataset_.frame(0).timestamp_s;
+    }
+    if (stamped) {
+        std::stable_sort(order_.begin(), order_.end(), [&](std::size_t a, std::size_t b) {
+            return dataset_.frame(a).timestamp_s < dataset_.frame(b).timestamp_s;
+        });
+        time_order_ = "timestamps";
+    } else {
+        time_order_ = "frame_order";
+    }
+    rank_.resize(n);
+    for (std::size_t r = 0; r < n; ++r) rank_[order_[r]] = r;
+
+    // Offsets, the largest first: a mover has moved most between far-apart scans. The first
+    // pass asks the first kFirstPass of them that exist for a frame (a point none of them saw
+    // through is static), the second pass the rest.
+    std::set<int> all;
+    for (int o = config_.window_stride; o <= config_.window_frames; o += config_.window_stride) all.insert(o);
+    for (const int f : config_.far_frames) all.insert(f);
+    for (auto it = all.rbegin(); it != all.rend(); ++it) {
+        offsets_.push_back(-*it);
+        offsets_.push_back(*it);
+    }
+}
+
+void DynamicDetector::neighbours(std::size_t frame, std::vector<std::size_t>& first,
+                                 std::vector<std::size_t>& others) const {
+    first.clear();
+    others.clear();
+    const long r = static_cast<long>(rank_.at(frame));
+    const long n = static_cast<long>(order_.size());
+    for (const int o : offsets_) {
+        const long q = r + o;
+        if (q < 0 || q >= n) continue;
+        (first.size() < kFirstPass ? first : others).push_back(order_[static_cast<std::size_t>(q)]);
+    }
+}
+
+const RangeImage& DynamicDetector::image(std::size_t frame) {
+    const std::size_t r = rank_[frame];
+    auto it = images_.find(r);
+    if (it != images_.end()) return *it->second;
+    const PointCloud cloud = dataset_.loadScan(frame);
+    auto img = std::make_unique<RangeImage>(cloud.points, config_.image);
+    ++stats_.images_built;
+    return *images_.emplace(r, std::move(img)).first->second;
+}
+
+void DynamicDetector::evictBefore(std::size_t rank) {
+    images_.erase(images_.begin(), images_.lower_bound(rank));
+}
+
+std::vector<std::uint8_t> DynamicDetector::detect(std::size_t frame,
+                                                  const std::vector<Vec3f>& points_L,
+                                                  const std::vector<std::uint32_t>& index,
+                                                  std::size_t points_in_file) {
+    Timer timer;
+    std::vector<std::uint8_t> dynamic(points_L.size(), 0);
+    ++stats_.scans;
+    stats_.points_in += points_L.size();
+
+    // Free space: the scans around this one in time.
+    std::vector<std::size_t> first_frames, other_frames;
+    neighbours(frame, first_frames, other_frames);
+    int max_offset = config_.window_frames;
+    for (const int f : config_.far_frames) max_offset = std::max(max_offset, f);
+    const std::size_t r = rank_.at(frame);
+    evictBefore(r > static_cast<std::size_t>(max_offset) ? r - static_cast<std::size_t>(max_offset) : 0);
+    {
+        Timer images_timer;
+        // Build the missing images in parallel (usually the one or two newly in the window).
+        std::vector<std::size_t> missing;
+        for (const auto* list : {&first_frames, &other_frames}) {
+            for (const std::size_t f : *list) {
+                if (!images_.count(rank_[f])) missing.push_back(f);
+            }
+        }
+        std::vector<std::unique_ptr<RangeImage>> built(missing.size());
+        tbb::parallel_for(std::size_t(0), missing.size(), [&](std::size_t i) {
+            const PointCloud cloud = dataset_.loadScan(missing[i]);
+            built[i] = std::make_unique<RangeImage>(cloud.points, config_.image);
+        });
+        for (std::size_t i = 0; i < missing.size(); ++i) {
+            images_.emplace(rank_[missing[i]], std::move(built[i]));
+            ++stats_.images_built;
+        }
+        stats_.images_s += images_timer.elapsedSeconds();
+    }
+    auto scans = [&](const std::vector<std::size_t>& frames) {
+        std::vector<VoteScan> out;
+        for (const std::size_t f : frames) {
+            out.push_back({&image(f), dataset_.frame(f).T_W_L.inverse()});
+        }
+        return out;
+    };
+    if (!first_frames.empty() || !other_frames.empty()) {
+        Timer votes_timer;
+        const Isometry3d& T_W_L = dataset_.frame(frame).T_W_L;
+        const Eigen::Matrix3f R = T_W_L.linear().cast<float>();
+        const Vec3f t = T_W_L.translation().cast<float>();
+        // Representatives: a point near the last tested one shares its decision.
+        const float share2 = static_cast<float>(config_.share_radius_m * config_.share_radius_m);
+        std::vector<Vec3f> tested_W;
+        std::vector<std::uint32_t> rep(points_L.size());
+        tested_W.reserve(points_L.size());
+        Vec3f last_L(1e30f, 1e30f, 1e30f);
+        for (std::size_t i = 0; i < points_L.size(); ++i) {
+            if ((points_L[i] - last_L).squaredNorm() > share2 || tested_W.empty()) {
+                last_L = points_L[i];
+                tested_W.push_back(R * points_L[i] + t);
+            }
+            rep[i] = static_cast<std::uint32_t>(tested_W.size() - 1);
+        }
+        std::size_t second = 0;
+        const std::vector<std::uint8_t> tested = dynamicByFreeSpace(
+            tested_W, scans(first_frames), scans(other_frames), config_.votes, &second);
+        for (std::size_t i = 0; i < points_L.size(); ++i) dynamic[i] = tested[rep[i]];
+        stats_.points_tested += tested_W.size();
+        stats_.points_second_pass += second;
+        for (const std::uint8_t d : dynamic) stats_.points_free_space += d;
+        stats_.votes_s += votes_timer.elapsedSeconds();
+    }
+
+    // Labels: SemanticKITTI's moving classes.
+    if (config_.use_labels) {
+        if (const auto label_path = dataset_.lidarLabelPath(frame)) {
+            const LidarLabels labels = readLidarLabels(*label_path);
+            checkLabelCount(labels.size(), *label_path, points_in_file, dataset_.frame(frame).scan_path);
+            ++stats_.scans_with_labels;
+            for (std::size_t i = 0; i < points_L.size(); ++i) {
+                if (!dynamic[i] && isMovingClass(LidarLabels::classOf(labels.raw[index[i]]))) {
+                    dynamic[i] = 1;
+                    ++stats_.points_label;
+                }
+            }
+        }
+    }
+    for (const std::uint8_t d : dynamic) stats_.points_dynamic += d;
+    stats_.seconds += timer.elapsedSeconds();
+    return dynamic;
+}
+
+}  // namespace vdbmap

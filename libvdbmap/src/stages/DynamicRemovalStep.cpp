@@ -1,0 +1,134 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "stages/DynamicRemovalStep.h"
+
+
+#include "vdbmap/core/Log.h"
+#include "vdbmap/core/OptionSpec.h"
+#include "vdbmap/io/Dataset.h"
+#include "vdbmap/pipeline/Context.h"
+#include "vdbmap/pipeline/Report.h"
+
+namespace vdbmap::detail {
+
+void declareDynamicOptions(OptionSpec& spec, DynamicRemovalConfig& c) {
+    spec.add("dynamic_removal",
+             "Remove moving objects: a point that other scans saw through (free space, counted "
+             "per point over the scans around it in time) or that carries a SemanticKITTI "
+             "moving label (252-259) is not integrated; written to dynamic_points.ply",
+             c.enabled, true);
+    spec.add("dynamic_window_frames",
+             "A scan is tested against the scans up to this many frames before and after it",
+             c.window_frames, 10, "frames");
+    spec.add("dynamic_window_stride", "Every this many frames within the window",
+             c.window_stride, 2, "frames");
+    spec.add("dynamic_far_frames",
+             "Further frame offsets tested on both sides (slow and stopping movers)", c.far_frames,
+             std::vector<int>{20, 30});
+    spec.add("dynamic_margin_m",
+             "A scan saw through a point if its return in the point's direction lies beyond the "
+             "point by more than margin_m + margin_per_m * distance",
+             c.votes.margin_m, 0.3, "m");
+    spec.add("dynamic_margin_per_m", "The margin's growth with the distance from that scan's sensor",
+             c.votes.margin_per_m, 0.01);
+    spec.add("dynamic_min_free_votes", "Scans that must have seen through a point to remove it",
+             c.votes.min_free_votes, 2);
+    spec.add("dynamic_free_fraction",
+             "And at least this fraction of the scans that saw the point's place (through it or "
+             "at it; scans with something in front do not count)",
+             c.votes.free_fraction, 0.0);
+    spec.add("dynamic_no_return_free_within_m",
+             "A scan with no return at all around a point's direction (sky behind it) saw through "
+             "it if the point is closer to that scan than this (0 = never)",
+             c.votes.no_return_free_within_m, 40.0, "m");
+    spec.add("dynamic_azimuth_res_deg", "Column width of the range images", c.image.azimuth_res_deg,
+             0.2, "deg");
+    spec.add("dynamic_elevation_res_deg",
+             "Row height of the range images (finer than the ring spacing)",
+             c.image.elevation_res_deg, 0.2, "deg");
+    spec.add("dynamic_azimuth_radius_px",
+             "Columns on each side whose nearest returns also bracket a point", c.image.azimuth_radius_px, 1,
+             "pixels");
+    spec.add("dynamic_elevation_search_px",
+             "Rows searched below and above a point for the nearest ring", c.image.elevation_search_px,
+             8, "pixels");
+    spec.add("dynamic_share_radius_m",
+             "A point this close to the last tested point before it in the scan shares its "
+             "decision (0 = test every point)",
+             c.share_radius_m, 0.1, "m");
+    spec.add("dynamic_use_labels",
+             "Also remove points whose LiDAR label (when the dataset has them) is a moving class "
+             "252-259",
+             c.use_labels, true);
+}
+
+DynamicRemovalStep::DynamicRemovalStep(const Context& ctx, const DynamicRemovalConfig& config) {
+    if (!config.enabled) return;
+    dataset_ = &ctx.dataset();
+    detector_ = std::make_unique<DynamicDetector>(ctx.dataset(), config);
+}
+
+ScanFilter DynamicRemovalStep::filter() {
+    if (!detector_) return {};
+    return [this](std::size_t frame, PointCloud& cloud, const std::vector<std::uint32_t>& index,
+                  std::size_t points_in_file) {
+        const std::vector<std::uint8_t> dynamic =
+            detector_->detect(frame, cloud.points, index, points_in_file);
+        const Isometry3d& T_W_L = dataset_->frame(frame).T_W_L;
+        const Eigen::Matrix3f R = T_W_L.linear().cast<float>();
+        const Vec3f t = T_W_L.translation().cast<float>();
+        const bool has_intensity = cloud.intensity.size() == cloud.points.size();
+        std::size_t kept = 0;
+        for (std::size_t i = 0; i < cloud.points.size(); ++i) {
+            if (dynamic[i]) {
+                removed_.add(R * cloud.points[i] + t, static_cast<std::uint32_t>(frame), index[i]);
+                continue;
+            }
+            cloud.points[kept] = cloud.points[i];
+            if (has_intensity) cloud.intensity[kept] = cloud.intensity[i];
+            ++kept;
+        }
+        cloud.points.resize(kept);
+        if (has_intensity) cloud.intensity.resize(kept);
+    };
+}
+
+void DynamicRemovalStep::finish(Context& ctx, const std::string& stage) const {
+    Report& r = ctx.report();
+    r.set({"stages", stage, "dynamic_removal", "enabled"}, detector_ != nullptr);
+    if (!detector_) return;
+    const DynamicStats& s = detector_->stats();
+    const std::vector<std::string> at{"stages", stage, "dynamic_removal"};
+    auto key = [&](const char* k) {
+        std::vector<std::string> p = at;
+        p.emplace_back(k);
+        return p;
+    };
+    r.set(key("scans"), s.scans);
+    r.set(key("points_in"), s.points_in);
+    r.set(key("points_dynamic"), s.points_dynamic);
+    r.set(key("points_free_space"), s.points_free_space);
+    r.set(key("points_label"), s.points_label);
+    r.set(key("scans_with_labels"), s.scans_with_labels);
+    r.set(key("points_tested"), s.points_tested);
+    r.set(key("points_second_pass"), s.points_second_pass);
+    r.set(key("range_images"), s.images_built);
+    r.set(key("seconds"), s.seconds);
+    r.set(key("range_images_s"), s.images_s);
+    r.set(key("votes_s"), s.votes_s);
+    r.set(key("time_order"), detector_->timeOrder());
+    if (detector_->timeOrder() == "frame_order") {
+        r.set(key("time_order_note"), "the dataset has no timestamps: neighbours in time are "
+                                      "taken in frame order");
+    }
+    const std::string file = ctx.processes() > 1 ? dynamicPointsPartName(ctx.process())
+                                                 : std::string("dynamic_points.ply");
+    ctx.writeOutput(file, dynamicPointsPly(removed_));
+    if (ctx.processes() == 1) {
+        r.set({"outputs", "dynamic_points"}, (ctx.outputDir() / file).string());
+    }
+    logInfo(stage + ": removed " + std::to_string(s.points_dynamic) + " of " +
+            std::to_string(s.points_in) + " points as moving (" +
+            std::to_string(s.points_label) + " by label) in " + std::to_string(s.seconds) + " s");
+}
+
+}  // namespace vdbmap::detail
