@@ -126,9 +126,7 @@ public:
             options_[py::str(info.key)] =
                 py::module_::import("json").attr("loads")(formatOptionValue(spec.value(info.key)));
         settings_ = detail::atsdfStageSettings(*stage);
-        map_ = std::make_unique<VoxelMap>(settings_.voxel_size_m,
-                                          static_cast<float>(settings_.config.truncation.max_m),
-                                          static_cast<float>(settings_.config.max_weight));
+        map_ = makeVoxelMap(settings_.config, settings_.voxel_size_m);  // as the stage makes it
         integrator_ = std::make_unique<AtsdfIntegrator>(*map_, settings_.config);
     }
 
@@ -199,7 +197,7 @@ public:
 private:
     detail::AtsdfStageSettings settings_;
     py::dict options_;
-    std::unique_ptr<VoxelMap> map_;
+    std::shared_ptr<VoxelMap> map_;
     std::unique_ptr<AtsdfIntegrator> integrator_;
 };
 

@@ -9,8 +9,9 @@ class StageRegistry;
 namespace detail {
 
 /// What an initialized integrate.atsdf stage integrates with: its voxel size and the
-/// integrator settings resolved from its options (the Python module's Map uses the stage's
-/// options and defaults this way).
+/// integrator settings from its options, as given (voxel counts; makeVoxelMap and
+/// AtsdfIntegrator resolve them). The Python module's Map uses the stage's options and
+/// defaults this way.
 struct AtsdfStageSettings {
     double voxel_size_m = 0.0;
     AtsdfConfig config;
