@@ -147,6 +147,13 @@ ExposureResult estimateExposureGains(const Visibility& vis,
     OverlapData data = collectOverlaps(vis, stats, options, keep);
     result.faces_used = data.offsets.size() - 1;
     result.observations_used = data.view.size();
+    std::vector<char> used(num_views, 0);
+    for (std::uint32_t v : data.view) {
+        if (v < num_views) used[v] = 1;
+    }
+    for (std::uint32_t v = 0; v < num_views; ++v) {
+        if (!used[v]) result.views_without_overlap.push_back(v);
+    }
     if (result.faces_used == 0 || num_views == 0) return result;
     for (std::uint32_t v : data.view) {
         if (v >= num_views) {
@@ -160,8 +167,6 @@ ExposureResult estimateExposureGains(const Visibility& vis,
         result.cg_iterations += solveReduced(data, num_views, options, a);
     }
     // Gauge: mean log gain 0 over the views that took part.
-    std::vector<char> used(num_views, 0);
-    for (std::uint32_t v : data.view) used[v] = 1;
     double sum = 0;
     std::size_t count = 0;
     for (std::size_t v = 0; v < num_views; ++v) {

@@ -28,6 +28,7 @@ struct ExposureResult {
     std::vector<double> gain;  ///< per view; observed = gain * exposure-free colour
     std::size_t faces_used = 0;
     std::size_t observations_used = 0;
+    std::vector<std::uint32_t> views_without_overlap;  ///< kept at gain 1
     int cg_iterations = 0;  ///< total over the reweighting rounds
 };
 

@@ -275,6 +275,7 @@ void TextureMrfStage::reportStats(Report& report, const TextureStats& s, double 
     if (!s.exposure_gains.empty()) {
         const auto [lo, hi] = std::minmax_element(s.exposure_gains.begin(), s.exposure_gains.end());
         report.stage(stage, "exposure_faces", s.exposure_faces);
+        report.stage(stage, "exposure_views_without_overlap", s.exposure_views_without_overlap);
         report.stage(stage, "exposure_gain_min", *lo);
         report.stage(stage, "exposure_gain_max", *hi);
         report.set({"stages", stage, "exposure_gains"}, s.exposure_gains);

@@ -525,6 +525,13 @@ TextureResult textureMesh(const MeshArrays& mesh, const std::vector<View>& views
         applyExposureGains(vis, exposure.gain, obs_stats);
         stats.exposure_gains = std::move(exposure.gain);
         stats.exposure_faces = exposure.faces_used;
+        stats.exposure_views_without_overlap = exposure.views_without_overlap.size();
+        if (!exposure.views_without_overlap.empty()) {
+            logWarn("texture: " + std::to_string(exposure.views_without_overlap.size()) +
+                    " view(s) share no usable face with another view (first: view " +
+                    std::to_string(exposure.views_without_overlap.front()) +
+                    "); their exposure gain stays 1");
+        }
         clock.done("exposure_gains");
     }
 

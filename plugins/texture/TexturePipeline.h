@@ -59,6 +59,7 @@ struct TextureStats {
     std::vector<VignettingParams> vignetting_used;         ///< per camera
     std::vector<double> exposure_gains;                    ///< per view, if estimated
     std::size_t exposure_faces = 0;                        ///< faces the gains came from
+    std::size_t exposure_views_without_overlap = 0;        ///< views kept at gain 1
     std::vector<std::pair<std::string, double>> timings_s;
     std::vector<std::pair<std::string, std::size_t>> peak_memory_bytes;
 };
