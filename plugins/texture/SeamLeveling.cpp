@@ -124,9 +124,17 @@ SeamLevelingResult solveSeamLeveling(const MeshArrays& mesh,
             {s.v0, {samples[k].a_v0, samples[k].b_v0}}, {s.v1, {samples[k].a_v1, samples[k].b_v1}}};
         for (const auto& [v, colors] : ends) {
             const std::size_t i = index.find(pa, v), j = index.find(pb, v);
-            addDifference(i, j, 1.0);
             const Vec3f d = toSpace(colors.first, options.space) -
                             toSpace(colors.second, options.space);
+            if (options.max_log_difference > 0 && options.space != SeamSpace::kBgr) {
+                const float dl = toSpace(colors.first, SeamSpace::kLogLuminance)[0] -
+                                 toSpace(colors.second, SeamSpace::kLogLuminance)[0];
+                if (std::abs(dl) > options.max_log_difference) {
+                    ++result.seam_terms_dropped;
+                    continue;
+                }
+            }
+            addDifference(i, j, 1.0);
             for (int c = 0; c < 3; ++c) {
                 rhs(i, c) -= d[c];
                 rhs(j, c) += d[c];

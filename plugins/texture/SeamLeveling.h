@@ -52,6 +52,11 @@ SeamSpace parseSeamSpace(const std::string& name);
 struct SeamLevelingOptions {
     SeamSpace space = SeamSpace::kLogLuminance;
     double smoothness = 0.1;    ///< weight of (g_i - g_j)^2 along edges inside a patch
+    /// Log spaces: a seam vertex whose two sides differ by more than this in log luminance is
+    /// left out of the seam term (0 = keep all). After the exposure gains, such a difference is
+    /// not photometric (a misregistered edge, an object on one side only): levelling it would
+    /// spread a false correction over both patches.
+    double max_log_difference = 0.0;
     double regularizer = 1e-4;  ///< weight of g^2: picks the smallest correction
     int max_iterations = 2000;  ///< conjugate gradient
     double tolerance = 1e-6;    ///< conjugate gradient, relative residual
@@ -64,6 +69,7 @@ struct SeamLevelingResult {
     bool log_gain = false;                                ///< corrections are log gains
     std::size_t unknowns = 0;                             ///< (patch, vertex) pairs
     std::size_t seam_terms = 0;                           ///< seam vertex constraints
+    std::size_t seam_terms_dropped = 0;                   ///< beyond max_log_difference
     int iterations = 0;                                   ///< CG iterations (max over channels)
     double max_abs_correction = 0;
 };

@@ -93,6 +93,11 @@ void TextureMrfStage::declareOptions(OptionSpec& spec) {
              "all channels: keeps every hue), 'log_bgr' (a gain per channel) or 'bgr' (additive "
              "offsets per channel, as published: shifts hues)",
              seam_space_, std::string("log_luminance"));
+    spec.add("seam_max_log_difference",
+             "Global adjustment (log spaces): seam vertices whose sides differ by more than this "
+             "in log luminance are not levelled: after the exposure gains such a difference is "
+             "content, not exposure (0 = level all; use 0 with exposure_gains: false)",
+             seam_max_log_difference_, 0.1);
     spec.add("padding_px", "Border of real image pixels around each chart against bleeding",
              padding_px_, 2, "px");
     spec.add("atlas_max_size_px", "Largest atlas page side", atlas_max_size_px_, 8192, "px");
@@ -178,6 +183,10 @@ void TextureMrfStage::initialize() {
                    std::to_string(scan_margin_m_) + ", " + std::to_string(scan_margin_rel_) +
                    ", " + std::to_string(scan_dilate_px_));
     }
+    if (seam_max_log_difference_ < 0) {
+        failConfig("option 'seam_max_log_difference' must be >= 0, got " +
+                   std::to_string(seam_max_log_difference_));
+    }
     if (output_subdir_.empty()) failConfig("option 'output_subdir' must not be empty");
     if (fill_ != "smooth" && fill_ != "neighbour" && fill_ != "grey") {
         failConfig("option 'fill' must be 'smooth', 'neighbour' or 'grey', got '" + fill_ + "'");
@@ -219,6 +228,7 @@ TextureOptions TextureMrfStage::textureOptions(std::size_t num_cameras, bool qui
     options.global_adjustment = global_adjustment_;
     options.leveling.smoothness = seam_smoothness_;
     options.leveling.space = parseSeamSpace(seam_space_);
+    options.leveling.max_log_difference = seam_max_log_difference_;
     options.padding_px = padding_px_;
     options.atlas_max_size_px = atlas_max_size_px_;
     options.quiet = quiet;
@@ -267,6 +277,9 @@ void TextureMrfStage::reportStats(Report& report, const TextureStats& s, double 
     report.stage(stage, "global_adjustment_unknowns", s.leveling_summary.unknowns);
     report.stage(stage, "global_adjustment_cg_iterations", s.leveling_summary.iterations);
     report.stage(stage, "global_adjustment_max_abs", s.leveling_summary.max_abs_correction);
+    report.stage(stage, "global_adjustment_seam_terms", s.leveling_summary.seam_terms);
+    report.stage(stage, "global_adjustment_seam_terms_dropped",
+                 s.leveling_summary.seam_terms_dropped);
     for (std::size_t c = 0; c < s.vignetting_used.size(); ++c) {
         const auto& p = s.vignetting_used[c];
         report.set({"stages", stage, "vignetting_abc", "camera_" + std::to_string(c)},
@@ -327,11 +340,13 @@ void TextureMrfStage::run(Context& ctx) {
         scan_options.margin_m = scan_margin_m_;
         scan_options.margin_rel = scan_margin_rel_;
         scan_options.dilate_px = scan_dilate_px_;
+        Timer scan_timer;
         Progress progress(stage + " scan occlusion", views.size(), ctx.quiet());
         const std::size_t hidden = removeScanOccluded(
             vis, mesh, views, datasetViewScans(dataset, views), scan_options, &progress);
         progress.finish();
         report.stage(stage, "scan_hidden_observations", hidden);
+        report.set({"stages", stage, "timings_s", "scan_occlusion"}, scan_timer.elapsedSeconds());
         logInfo(stage + ": " + std::to_string(hidden) +
                 " observations hidden by the scan nearest in time to their image");
     }

@@ -47,6 +47,7 @@ private:
     double scan_margin_rel_ = 0.1;
     int scan_dilate_px_ = 2;
     std::string seam_space_ = "log_luminance";
+    double seam_max_log_difference_ = 0.1;
     bool photo_consistency_ = true;
     double photo_max_distance_ = 2.5;
     int photo_min_views_ = 3;

@@ -144,3 +144,38 @@ TEST_CASE("seam spaces parse by name", "[texture][leveling]") {
     CHECK(parseSeamSpace("log_luminance") == SeamSpace::kLogLuminance);
     CHECK_THROWS_AS(parseSeamSpace("lab"), vdbmap::InvalidInput);
 }
+
+TEST_CASE("seam vertices beyond max_log_difference are not levelled", "[texture][leveling]") {
+    const MeshArrays mesh = planeGrid(8, 4, 2.0f, 1.0f, 5.0f);
+    std::vector<std::uint32_t> face_patch(mesh.faces.size());
+    for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+        float x = 0;
+        for (auto v : mesh.faces[f]) x += mesh.vertices_W[v].x();
+        face_patch[f] = x < 0 ? 0 : 1;
+    }
+    const auto seams = findSeamEdges(mesh, face_patch, bruteAdjacency(mesh));
+    // Side b is 5 % brighter (an exposure residual) except on the top row, where it shows
+    // something else entirely (3x brighter: content, not exposure).
+    std::vector<SeamSamples> samples(seams.size());
+    for (std::size_t k = 0; k < seams.size(); ++k) {
+        const bool top = mesh.vertices_W[seams[k].v0].y() > 0.49f &&
+                         mesh.vertices_W[seams[k].v1].y() > 0.49f;
+        const float gb = top ? 3.0f : 1.05f;
+        samples[k].a_v0 = samples[k].a_v1 = Vec3f::Constant(100);
+        samples[k].b_v0 = samples[k].b_v1 = Vec3f::Constant(100 * gb);
+    }
+    SeamLevelingOptions options;
+    options.max_log_difference = 0.1;
+    const auto robust = solveSeamLeveling(mesh, face_patch, seams, samples, options);
+    CHECK(robust.seam_terms_dropped > 0);
+    // Only the 5 % is levelled: corrections of +-log(1.05)/2, whichever side the seam is on.
+    for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+        for (int k = 0; k < 3; ++k) {
+            CHECK(std::abs(robust.corner_correction[f][k][0]) < 0.5f * std::log(1.05f) + 0.01f);
+        }
+    }
+    options.max_log_difference = 0.0;  // level all: the 3x spreads into the patches
+    const auto plain = solveSeamLeveling(mesh, face_patch, seams, samples, options);
+    CHECK(plain.seam_terms_dropped == 0);
+    CHECK(plain.max_abs_correction > 0.1);
+}

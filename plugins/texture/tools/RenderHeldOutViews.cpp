@@ -3,7 +3,7 @@
 // Renders each run's textured mesh (RUN_DIR/textured/mesh.obj) from the held-out views of a
 // simulated sequence (GT_DIR/views/), without shading, as `vdbmap eval` does to score it, and
 // writes OUT_DIR/view_<k>_<run index>.png and gt_<k>.png (the held-out image). With --crop, also
-// OUT_DIR/crop_<K>.png: the rectangle (X, Y, W, H) of view K from every run, left to right,
+// OUT_DIR/crop_<K>.jpg: the rectangle (X, Y, W, H) of view K from every run, left to right,
 // then the held-out image, each scaled 2x. For the before/after pictures of docs/texturing.md.
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -91,7 +91,7 @@ int main(int argc, char** argv) {
             tiles.push_back(big);
             cv::Mat row;
             cv::hconcat(tiles, row);
-            cv::imwrite((out_dir / ("crop_" + std::to_string(k) + ".png")).string(), row);
+            cv::imwrite((out_dir / ("crop_" + std::to_string(k) + ".jpg")).string(), row);
         }
         return 0;
     } catch (const std::exception& e) {
