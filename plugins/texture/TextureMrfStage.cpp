@@ -78,6 +78,11 @@ void TextureMrfStage::declareOptions(OptionSpec& spec) {
              "Estimate one exposure gain per image jointly from the overlaps (least squares on "
              "log luminance, mean log gain 0) and texture from the corrected images",
              exposure_gains_, true);
+    spec.add("exposure_gains_tiled",
+             "Estimate the exposure gains in tiled runs too, per tile (each tile has its own "
+             "gauge, and on a simulated street the per-tile gains drifted by up to 30 %: "
+             "docs/texturing.md)",
+             exposure_gains_tiled_, false);
     spec.add("photo_consistency", "Reject outlier views per face (Waechter et al. 2014, HSV)",
              photo_consistency_, true);
     spec.add("photo_max_distance", "Photo-consistency: reject views farther than this (sigmas)",
@@ -311,7 +316,8 @@ void TextureMrfStage::run(Context& ctx) {
     Report& report = ctx.report();
     Timer total;
 
-    const TextureOptions options = textureOptions(dataset.cameras().size(), ctx.quiet());
+    TextureOptions options = textureOptions(dataset.cameras().size(), ctx.quiet());
+    if (ctx.hasTile() && !exposure_gains_tiled_) options.exposure_gains = false;
 
     const MeshArrays mesh = meshArrays(tri_mesh);
     if (mesh.faces.empty()) fail("the mesh has no faces: nothing to texture");
