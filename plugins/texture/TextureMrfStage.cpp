@@ -76,13 +76,10 @@ void TextureMrfStage::declareOptions(OptionSpec& spec) {
              estimate_vignetting_, false);
     spec.add("exposure_gains",
              "Estimate one exposure gain per image jointly from the overlaps (least squares on "
-             "log luminance, mean log gain 0) and texture from the corrected images",
-             exposure_gains_, true);
-    spec.add("exposure_gains_tiled",
-             "Estimate the exposure gains in tiled runs too, per tile (each tile has its own "
-             "gauge, and on a simulated street the per-tile gains drifted by up to 30 %: "
-             "docs/texturing.md)",
-             exposure_gains_tiled_, false);
+             "log luminance, mean log gain 0) and texture from the corrected images: 'auto' (on "
+             "when vignetting is corrected: uncorrected vignetting biases every overlap the same "
+             "way and the gains drift, docs/texturing.md), 'true' or 'false'",
+             exposure_gains_, std::string("auto"));
     spec.add("photo_consistency", "Reject outlier views per face (Waechter et al. 2014, HSV)",
              photo_consistency_, true);
     spec.add("photo_max_distance", "Photo-consistency: reject views farther than this (sigmas)",
@@ -101,7 +98,7 @@ void TextureMrfStage::declareOptions(OptionSpec& spec) {
     spec.add("seam_max_log_difference",
              "Global adjustment (log spaces): seam vertices whose sides differ by more than this "
              "in log luminance are not levelled: after the exposure gains such a difference is "
-             "content, not exposure (0 = level all; use 0 with exposure_gains: false)",
+             "mostly content, not exposure (0 = level all)",
              seam_max_log_difference_, 0.1);
     spec.add("padding_px", "Border of real image pixels around each chart against bleeding",
              padding_px_, 2, "px");
@@ -188,6 +185,10 @@ void TextureMrfStage::initialize() {
                    std::to_string(scan_margin_m_) + ", " + std::to_string(scan_margin_rel_) +
                    ", " + std::to_string(scan_dilate_px_));
     }
+    if (exposure_gains_ != "auto" && exposure_gains_ != "true" && exposure_gains_ != "false") {
+        failConfig("option 'exposure_gains' must be 'auto', 'true' or 'false', got '" +
+                   exposure_gains_ + "'");
+    }
     if (seam_max_log_difference_ < 0) {
         failConfig("option 'seam_max_log_difference' must be >= 0, got " +
                    std::to_string(seam_max_log_difference_));
@@ -226,7 +227,8 @@ TextureOptions TextureMrfStage::textureOptions(std::size_t num_cameras, bool qui
                                                  vignetting_params_[3 * c + 2]});
         }
     }
-    options.exposure_gains = exposure_gains_;
+    options.exposure_gains =
+        exposure_gains_ == "true" || (exposure_gains_ == "auto" && vignetting_);
     options.photo_consistency = photo_consistency_;
     options.photo.max_distance = photo_max_distance_;
     options.photo.min_views = photo_min_views_;
@@ -317,7 +319,6 @@ void TextureMrfStage::run(Context& ctx) {
     Timer total;
 
     TextureOptions options = textureOptions(dataset.cameras().size(), ctx.quiet());
-    if (ctx.hasTile() && !exposure_gains_tiled_) options.exposure_gains = false;
 
     const MeshArrays mesh = meshArrays(tri_mesh);
     if (mesh.faces.empty()) fail("the mesh has no faces: nothing to texture");

@@ -41,8 +41,7 @@ private:
     bool vignetting_ = false;
     std::vector<double> vignetting_params_;
     bool estimate_vignetting_ = false;
-    bool exposure_gains_ = true;
-    bool exposure_gains_tiled_ = false;
+    std::string exposure_gains_ = "auto";
     bool scan_occlusion_ = true;
     double scan_margin_m_ = 0.3;
     double scan_margin_rel_ = 0.1;
