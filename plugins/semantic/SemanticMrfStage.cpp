@@ -50,7 +50,8 @@ Sources gatherSources(const std::string& stage, Context& ctx, const SemanticOpti
                       const FaceArrays& faces, const LabelSet& labels) {
     Sources s;
     if (opt.image_votes) {
-        s.images = imageVotes(stage, ctx, opt.visibility, labels, opt.image_chunk);
+        s.images = imageVotes(stage, ctx, opt.visibility, labels, opt.image_chunk,
+                              opt.scan_occlusion ? &opt.scan : nullptr);
     }
     if (opt.lidar_labels) {
         s.lidar = lidarVotes(stage, ctx, faces, labels, opt.label_map, opt.lidar_vote_radius_m);
@@ -144,6 +145,19 @@ void SemanticMrfStage::declareOptions(OptionSpec& spec) {
              opt_.visibility.occlusion_test, true);
     spec.add("occlusion_tolerance_m", "A hit closer than this to the face is no occluder",
              opt_.visibility.occlusion_tolerance_m, 0.02, "m");
+    spec.add("scan_occlusion",
+             "A view does not vote for a face that a return of the LiDAR scan nearest in time to "
+             "its image hides (a moving car, anything in front that the map lacks)",
+             opt_.scan_occlusion, true);
+    spec.add("scan_occlusion_margin_m",
+             "Scan occlusion: a return hides a face at depth z when nearer than "
+             "z * (1 - scan_occlusion_margin_rel) - this",
+             opt_.scan.margin_m, 0.3, "m");
+    spec.add("scan_occlusion_margin_rel", "Scan occlusion: relative depth margin (see _margin_m)",
+             opt_.scan.margin_rel, 0.1);
+    spec.add("scan_occlusion_dilate_px",
+             "Scan occlusion: radius of the min filter that closes the gaps between the beams",
+             opt_.scan.dilate_px, 2, "px");
     spec.add("labels_file",
              "Label set file 'id, name, r g b' (overrides the dataset's; '' = dataset's or the "
              "docs/DATA.md default)",
@@ -192,6 +206,14 @@ void SemanticMrfStage::initialize() {
                    std::to_string(opt_.probability_floor));
     }
     if (opt_.max_sweeps < 1) failConfig("option 'max_sweeps' must be >= 1, got " + std::to_string(opt_.max_sweeps));
+    if (opt_.scan.margin_m < 0 || !(opt_.scan.margin_rel >= 0 && opt_.scan.margin_rel < 1) ||
+        opt_.scan.dilate_px < 0 || opt_.scan.dilate_px > 32) {
+        failConfig("options 'scan_occlusion_margin_m' >= 0, 'scan_occlusion_margin_rel' in "
+                   "[0, 1) and 'scan_occlusion_dilate_px' in [0, 32], got " +
+                   std::to_string(opt_.scan.margin_m) + ", " +
+                   std::to_string(opt_.scan.margin_rel) + ", " +
+                   std::to_string(opt_.scan.dilate_px));
+    }
     try {
         checkVisibilityOptions(opt_.visibility);
     } catch (const InvalidInput& e) {

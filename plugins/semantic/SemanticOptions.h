@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "vdbmap/render/ScanOcclusion.h"
 #include "vdbmap/render/Visibility.h"
 
 namespace vdbmap::semantic {
@@ -17,6 +18,8 @@ struct SemanticOptions {
     bool all_classes = false;
     int max_sweeps = 5;
     VisibilityOptions visibility;
+    bool scan_occlusion = true;  ///< drop image votes the nearest-in-time scan hides
+    ScanOcclusionOptions scan;
     std::string labels_file;
     // Outputs.
     std::vector<int> export_classes;

@@ -16,6 +16,7 @@
 #include "vdbmap/mesh/MeshArrays.h"
 #include "vdbmap/pipeline/Context.h"
 #include "vdbmap/pipeline/Tiling.h"
+#include "vdbmap/render/ScanOcclusion.h"
 #include "vdbmap/render/VisibilitySetup.h"
 
 namespace vdbmap::semantic {
@@ -84,7 +85,7 @@ cv::Mat loadViewLabels(const std::string& stage, const Dataset& dataset, const V
 }  // namespace
 
 ImageVotes imageVotes(const std::string& stage, Context& ctx, const VisibilityOptions& options,
-                      const LabelSet& labels, int image_chunk) {
+                      const LabelSet& labels, int image_chunk, const ScanOcclusionOptions* scan) {
     const Dataset& dataset = ctx.dataset();
     ImageVotes out;
     // The views of the tile in a tiled run (Context::views), else every view.
@@ -105,9 +106,16 @@ ImageVotes imageVotes(const std::string& stage, Context& ctx, const VisibilityOp
                 " frame x camera pairs have no semantic image and are skipped");
     }
     Timer step;
-    const Visibility visibility = meshVisibility(ctx.mesh(), views, options,
-                                                 stage + " visibility", ctx.quiet(),
-                                                 &ctx.occluderMesh());
+    Visibility visibility = meshVisibility(ctx.mesh(), views, options, stage + " visibility",
+                                           ctx.quiet(), &ctx.occluderMesh());
+    if (scan) {
+        // No vote from a view for a face something in front hid then (a moving car).
+        Progress progress(stage + " scan occlusion", views.size(), ctx.quiet());
+        out.scan_hidden = removeScanOccluded(visibility,
+                                             meshArrays(ctx.mesh(), DeletedFaces::Collapse), views,
+                                             datasetViewScans(dataset, views), *scan, &progress);
+        progress.finish();
+    }
     out.visibility_s = step.elapsedSeconds();
 
     step.reset();

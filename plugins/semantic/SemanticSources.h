@@ -11,6 +11,7 @@
 #include "vdbmap/core/Types.h"
 #include "vdbmap/io/LabelSet.h"
 #include "vdbmap/mesh/TriMesh.h"
+#include "vdbmap/render/ScanOcclusion.h"
 #include "vdbmap/render/Visibility.h"
 
 namespace vdbmap {
@@ -49,15 +50,18 @@ struct ImageVotes {
     FaceVotes votes;
     std::size_t views = 0;
     std::size_t observations = 0;
+    std::size_t scan_hidden = 0;  ///< observations the nearest-in-time scan hid (not voted)
     double visibility_s = 0, votes_s = 0;
 };
 
 /// Image votes: visibility of ctx.mesh() in ctx.views() (a tile's views in a tiled run; the
 /// tile's occluder mesh hides faces), then area-weighted centre-pixel votes (paper Eq. 4),
-/// `image_chunk` images in memory at once. A semantic image of another size than its camera
-/// is an error naming the file and both sizes.
+/// `image_chunk` images in memory at once. With `scan` (non-null), a view does not vote for a
+/// face that the LiDAR scan nearest in time to its image hides (removeScanOccluded). A semantic
+/// image of another size than its camera is an error naming the file and both sizes.
 ImageVotes imageVotes(const std::string& stage, Context& ctx, const VisibilityOptions& options,
-                      const LabelSet& labels, int image_chunk);
+                      const LabelSet& labels, int image_chunk,
+                      const ScanOcclusionOptions* scan = nullptr);
 
 /// What the LiDAR phase produced.
 struct LidarVoteResult {

@@ -34,7 +34,29 @@ std::vector<SeamEdge> findSeamEdges(const MeshArrays& mesh,
     return seams;
 }
 
+SeamSpace parseSeamSpace(const std::string& name) {
+    if (name == "bgr") return SeamSpace::kBgr;
+    if (name == "log_bgr") return SeamSpace::kLogBgr;
+    if (name == "log_luminance") return SeamSpace::kLogLuminance;
+    throw InvalidInput("texture: seam levelling space must be 'bgr', 'log_bgr' or 'log_luminance', got '" +
+                       name + "'");
+}
+
 namespace {
+
+/// A seam sample in the levelling space (all three channels equal for log luminance).
+Vec3f toSpace(const Vec3f& bgr, SeamSpace space) {
+    auto safeLog = [](float x) { return std::log(std::max(x, 1.0f)); };
+    switch (space) {
+        case SeamSpace::kBgr:
+            return bgr;
+        case SeamSpace::kLogBgr:
+            return Vec3f(safeLog(bgr[0]), safeLog(bgr[1]), safeLog(bgr[2]));
+        case SeamSpace::kLogLuminance:
+            return Vec3f::Constant(safeLog(0.114f * bgr[0] + 0.587f * bgr[1] + 0.299f * bgr[2]));
+    }
+    return bgr;
+}
 
 /// Sorted (patch, vertex) keys: the unknowns of the adjustment.
 class UnknownIndex {
@@ -71,6 +93,7 @@ SeamLevelingResult solveSeamLeveling(const MeshArrays& mesh,
                            std::to_string(face_patch.size()) + " patch ids");
     }
     SeamLevelingResult result;
+    result.log_gain = options.space != SeamSpace::kBgr;
     result.corner_correction.assign(mesh.faces.size(),
                                     {Vec3f::Zero(), Vec3f::Zero(), Vec3f::Zero()});
     UnknownIndex index;
@@ -101,8 +124,17 @@ SeamLevelingResult solveSeamLeveling(const MeshArrays& mesh,
             {s.v0, {samples[k].a_v0, samples[k].b_v0}}, {s.v1, {samples[k].a_v1, samples[k].b_v1}}};
         for (const auto& [v, colors] : ends) {
             const std::size_t i = index.find(pa, v), j = index.find(pb, v);
+            const Vec3f d = toSpace(colors.first, options.space) -
+                            toSpace(colors.second, options.space);
+            if (options.max_log_difference > 0 && options.space != SeamSpace::kBgr) {
+                const float dl = toSpace(colors.first, SeamSpace::kLogLuminance)[0] -
+                                 toSpace(colors.second, SeamSpace::kLogLuminance)[0];
+                if (std::abs(dl) > options.max_log_difference) {
+                    ++result.seam_terms_dropped;
+                    continue;
+                }
+            }
             addDifference(i, j, 1.0);
-            const Vec3f d = colors.first - colors.second;
             for (int c = 0; c < 3; ++c) {
                 rhs(i, c) -= d[c];
                 rhs(j, c) += d[c];
@@ -130,10 +162,13 @@ SeamLevelingResult solveSeamLeveling(const MeshArrays& mesh,
     cg.setTolerance(options.tolerance);
     cg.compute(A);
     Eigen::MatrixXd g(static_cast<Eigen::Index>(n), 3);
-    for (int c = 0; c < 3; ++c) {
+    // Log luminance: the three channels are the same problem; solve it once.
+    const int channels = options.space == SeamSpace::kLogLuminance ? 1 : 3;
+    for (int c = 0; c < channels; ++c) {
         g.col(c) = cg.solve(rhs.col(c));
         result.iterations = std::max(result.iterations, static_cast<int>(cg.iterations()));
     }
+    for (int c = channels; c < 3; ++c) g.col(c) = g.col(0);
     result.max_abs_correction = g.size() ? g.cwiseAbs().maxCoeff() : 0.0;
     for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
         if (face_patch[f] == kNoLabel) continue;

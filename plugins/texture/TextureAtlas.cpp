@@ -99,7 +99,7 @@ void cutChart(const cv::Mat& image_f32, const Chart& chart, cv::Mat& page, cv::P
 void applyChartCorrection(const Chart& chart,
                           const std::vector<std::array<Eigen::Vector2f, 3>>& face_pixels,
                           const std::vector<std::array<Vec3f, 3>>& corner_correction,
-                          cv::Mat& page) {
+                          cv::Mat& page, bool log_gain) {
     const int w = chart.size.width, h = chart.size.height;
     std::vector<Vec3f> g(static_cast<std::size_t>(w) * h, Vec3f::Zero());
     std::vector<char> known(g.size(), 0);
@@ -150,7 +150,10 @@ void applyChartCorrection(const Chart& chart,
         auto* dst = page.ptr<cv::Vec3b>(chart.place.y + y) + chart.place.x;
         for (int x = 0; x < w; ++x) {
             const Vec3f& c = g[static_cast<std::size_t>(y) * w + x];
-            for (int k = 0; k < 3; ++k) dst[x][k] = cv::saturate_cast<uchar>(dst[x][k] + c[k]);
+            for (int k = 0; k < 3; ++k) {
+                dst[x][k] = cv::saturate_cast<uchar>(log_gain ? dst[x][k] * std::exp(c[k])
+                                                              : dst[x][k] + c[k]);
+            }
         }
     }
 }

@@ -59,11 +59,11 @@ void cutChart(const cv::Mat& image_f32, const Chart& chart, cv::Mat& page,
 /// Adds the global colour adjustment to a chart already in `page`: inside each face the
 /// correction is interpolated barycentrically from its corners (paper Sec. 5.2.3); padding
 /// pixels take the correction of the nearest face pixel (breadth-first), so the border keeps
-/// matching its face.
+/// matching its face. `log_gain`: the corrections are log gains (pixel * exp(g)), else offsets.
 void applyChartCorrection(const Chart& chart,
                           const std::vector<std::array<Eigen::Vector2f, 3>>& face_pixels,
                           const std::vector<std::array<Vec3f, 3>>& corner_correction,
-                          cv::Mat& page);
+                          cv::Mat& page, bool log_gain = false);
 
 /// Texture coordinates of every face corner in OBJ convention (u right, v up, (0,0) the
 /// bottom-left corner of the page, pixel centres at (i + 0.5) / size), and the page of each

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "TextureMrfStage.h"
 
+#include <algorithm>
 #include <sstream>
 
 #include "ObjExport.h"
@@ -15,7 +16,9 @@
 #include "vdbmap/pipeline/Context.h"
 #include "vdbmap/pipeline/Report.h"
 #include "vdbmap/pipeline/Tiling.h"
+#include "vdbmap/core/Progress.h"
 #include "vdbmap/render/Raycaster.h"
+#include "vdbmap/render/ScanOcclusion.h"
 #include "vdbmap/render/Visibility.h"
 #include "vdbmap/render/VisibilitySetup.h"
 
@@ -71,6 +74,12 @@ void TextureMrfStage::declareOptions(OptionSpec& spec) {
     spec.add("estimate_vignetting",
              "Estimate a b c per camera from overlapping observations (needs vignetting: true)",
              estimate_vignetting_, false);
+    spec.add("exposure_gains",
+             "Estimate one exposure gain per image jointly from the overlaps (least squares on "
+             "log luminance, mean log gain 0) and texture from the corrected images: 'auto' (on "
+             "when vignetting is corrected: uncorrected vignetting biases every overlap the same "
+             "way and the gains drift, docs/texturing.md), 'true' or 'false'",
+             exposure_gains_, std::string("auto"));
     spec.add("photo_consistency", "Reject outlier views per face (Waechter et al. 2014, HSV)",
              photo_consistency_, true);
     spec.add("photo_max_distance", "Photo-consistency: reject views farther than this (sigmas)",
@@ -81,6 +90,16 @@ void TextureMrfStage::declareOptions(OptionSpec& spec) {
              global_adjustment_, true);
     spec.add("seam_smoothness", "Global adjustment: weight of the smoothness of g inside patches",
              seam_smoothness_, 0.1);
+    spec.add("seam_space",
+             "Global adjustment: colour space of the levelling: 'log_luminance' (one gain for "
+             "all channels: keeps every hue), 'log_bgr' (a gain per channel) or 'bgr' (additive "
+             "offsets per channel, as published: shifts hues)",
+             seam_space_, std::string("log_luminance"));
+    spec.add("seam_max_log_difference",
+             "Global adjustment (log spaces): seam vertices whose sides differ by more than this "
+             "in log luminance are not levelled: after the exposure gains such a difference is "
+             "mostly content, not exposure (0 = level all)",
+             seam_max_log_difference_, 0.1);
     spec.add("padding_px", "Border of real image pixels around each chart against bleeding",
              padding_px_, 2, "px");
     spec.add("atlas_max_size_px", "Largest atlas page side", atlas_max_size_px_, 8192, "px");
@@ -94,6 +113,19 @@ void TextureMrfStage::declareOptions(OptionSpec& spec) {
              max_depth_m_, 40.0, "m");
     spec.add("occlusion_test", "Test occlusion by the mesh itself (Embree BVH)", occlusion_test_,
              true);
+    spec.add("scan_occlusion",
+             "A view does not texture a face that a return of the LiDAR scan nearest in time to "
+             "its image hides (a moving car, anything in front that the map lacks)",
+             scan_occlusion_, true);
+    spec.add("scan_occlusion_margin_m",
+             "Scan occlusion: a return hides a face at depth z when nearer than "
+             "z * (1 - scan_occlusion_margin_rel) - this",
+             scan_margin_m_, 0.3, "m");
+    spec.add("scan_occlusion_margin_rel", "Scan occlusion: relative depth margin (see _margin_m)",
+             scan_margin_rel_, 0.1);
+    spec.add("scan_occlusion_dilate_px",
+             "Scan occlusion: radius of the min filter that closes the gaps between the beams",
+             scan_dilate_px_, 2, "px");
     spec.add("fill",
              "Faces no view saw: 'smooth' (colours diffused from the textured border, a sparse "
              "Laplace solve), 'neighbour' (colour of the nearest textured face) or 'grey'",
@@ -142,6 +174,25 @@ void TextureMrfStage::initialize() {
         failConfig("option 'seam_smoothness' must be >= 0, got " +
                    std::to_string(seam_smoothness_));
     }
+    if (seam_space_ != "log_luminance" && seam_space_ != "log_bgr" && seam_space_ != "bgr") {
+        failConfig("option 'seam_space' must be 'log_luminance', 'log_bgr' or 'bgr', got '" +
+                   seam_space_ + "'");
+    }
+    if (scan_margin_m_ < 0 || !(scan_margin_rel_ >= 0 && scan_margin_rel_ < 1) ||
+        scan_dilate_px_ < 0 || scan_dilate_px_ > 32) {
+        failConfig("options 'scan_occlusion_margin_m' >= 0, 'scan_occlusion_margin_rel' in [0, 1) "
+                   "and 'scan_occlusion_dilate_px' in [0, 32], got " +
+                   std::to_string(scan_margin_m_) + ", " + std::to_string(scan_margin_rel_) +
+                   ", " + std::to_string(scan_dilate_px_));
+    }
+    if (exposure_gains_ != "auto" && exposure_gains_ != "true" && exposure_gains_ != "false") {
+        failConfig("option 'exposure_gains' must be 'auto', 'true' or 'false', got '" +
+                   exposure_gains_ + "'");
+    }
+    if (seam_max_log_difference_ < 0) {
+        failConfig("option 'seam_max_log_difference' must be >= 0, got " +
+                   std::to_string(seam_max_log_difference_));
+    }
     if (output_subdir_.empty()) failConfig("option 'output_subdir' must not be empty");
     if (fill_ != "smooth" && fill_ != "neighbour" && fill_ != "grey") {
         failConfig("option 'fill' must be 'smooth', 'neighbour' or 'grey', got '" + fill_ + "'");
@@ -176,11 +227,15 @@ TextureOptions TextureMrfStage::textureOptions(std::size_t num_cameras, bool qui
                                                  vignetting_params_[3 * c + 2]});
         }
     }
+    options.exposure_gains =
+        exposure_gains_ == "true" || (exposure_gains_ == "auto" && vignetting_);
     options.photo_consistency = photo_consistency_;
     options.photo.max_distance = photo_max_distance_;
     options.photo.min_views = photo_min_views_;
     options.global_adjustment = global_adjustment_;
     options.leveling.smoothness = seam_smoothness_;
+    options.leveling.space = parseSeamSpace(seam_space_);
+    options.leveling.max_log_difference = seam_max_log_difference_;
     options.padding_px = padding_px_;
     options.atlas_max_size_px = atlas_max_size_px_;
     options.quiet = quiet;
@@ -229,10 +284,21 @@ void TextureMrfStage::reportStats(Report& report, const TextureStats& s, double 
     report.stage(stage, "global_adjustment_unknowns", s.leveling_summary.unknowns);
     report.stage(stage, "global_adjustment_cg_iterations", s.leveling_summary.iterations);
     report.stage(stage, "global_adjustment_max_abs", s.leveling_summary.max_abs_correction);
+    report.stage(stage, "global_adjustment_seam_terms", s.leveling_summary.seam_terms);
+    report.stage(stage, "global_adjustment_seam_terms_dropped",
+                 s.leveling_summary.seam_terms_dropped);
     for (std::size_t c = 0; c < s.vignetting_used.size(); ++c) {
         const auto& p = s.vignetting_used[c];
         report.set({"stages", stage, "vignetting_abc", "camera_" + std::to_string(c)},
                    std::vector<double>{p.a, p.b, p.c});
+    }
+    if (!s.exposure_gains.empty()) {
+        const auto [lo, hi] = std::minmax_element(s.exposure_gains.begin(), s.exposure_gains.end());
+        report.stage(stage, "exposure_faces", s.exposure_faces);
+        report.stage(stage, "exposure_views_without_overlap", s.exposure_views_without_overlap);
+        report.stage(stage, "exposure_gain_min", *lo);
+        report.stage(stage, "exposure_gain_max", *hi);
+        report.set({"stages", stage, "exposure_gains"}, s.exposure_gains);
     }
     for (const auto& [step_name, seconds] : s.timings_s) {
         report.set({"stages", stage, "timings_s", step_name}, seconds);
@@ -252,7 +318,7 @@ void TextureMrfStage::run(Context& ctx) {
     Report& report = ctx.report();
     Timer total;
 
-    const TextureOptions options = textureOptions(dataset.cameras().size(), ctx.quiet());
+    TextureOptions options = textureOptions(dataset.cameras().size(), ctx.quiet());
 
     const MeshArrays mesh = meshArrays(tri_mesh);
     if (mesh.faces.empty()) fail("the mesh has no faces: nothing to texture");
@@ -271,9 +337,26 @@ void TextureMrfStage::run(Context& ctx) {
     vis_options.min_depth_m = min_depth_m_;
     vis_options.max_depth_m = max_depth_m_;
     vis_options.occlusion_test = occlusion_test_;
-    const Visibility vis =
+    Visibility vis =
         meshVisibility(tri_mesh, views, vis_options, stage + " visibility", ctx.quiet(),
                        &ctx.occluderMesh());
+    if (scan_occlusion_) {
+        // A view must not texture a face that something in front hid when the image was taken,
+        // even if the map lacks it (a moving car): the scan nearest in time tells.
+        ScanOcclusionOptions scan_options;
+        scan_options.margin_m = scan_margin_m_;
+        scan_options.margin_rel = scan_margin_rel_;
+        scan_options.dilate_px = scan_dilate_px_;
+        Timer scan_timer;
+        Progress progress(stage + " scan occlusion", views.size(), ctx.quiet());
+        const std::size_t hidden = removeScanOccluded(
+            vis, mesh, views, datasetViewScans(dataset, views), scan_options, &progress);
+        progress.finish();
+        report.stage(stage, "scan_hidden_observations", hidden);
+        report.set({"stages", stage, "timings_s", "scan_occlusion"}, scan_timer.elapsedSeconds());
+        logInfo(stage + ": " + std::to_string(hidden) +
+                " observations hidden by the scan nearest in time to their image");
+    }
     const auto adjacency = faceAdjacency(tri_mesh);
     const double visibility_s = step.elapsedSeconds();
     report.set({"stages", stage, "timings_s", "visibility"}, visibility_s);

@@ -41,6 +41,13 @@ private:
     bool vignetting_ = false;
     std::vector<double> vignetting_params_;
     bool estimate_vignetting_ = false;
+    std::string exposure_gains_ = "auto";
+    bool scan_occlusion_ = true;
+    double scan_margin_m_ = 0.3;
+    double scan_margin_rel_ = 0.1;
+    int scan_dilate_px_ = 2;
+    std::string seam_space_ = "log_luminance";
+    double seam_max_log_difference_ = 0.1;
     bool photo_consistency_ = true;
     double photo_max_distance_ = 2.5;
     int photo_min_views_ = 3;

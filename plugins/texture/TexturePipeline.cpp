@@ -28,9 +28,10 @@ double imageCentreU(const CameraIntrinsics& in) { return (in.width - 1) / 2.0; }
 double imageCentreV(const CameraIntrinsics& in) { return (in.height - 1) / 2.0; }
 
 /// Loads view v, converts `crop` of it (default: the whole image) to float and applies the
-/// vignetting correction of its camera there.
+/// vignetting correction of its camera there, then divides by the view's exposure gain.
 cv::Mat loadCorrected(const ImageLoader& load, const std::vector<View>& views, std::size_t v,
-                      const std::vector<VignettingParams>* vignetting, cv::Rect crop = {}) {
+                      const std::vector<VignettingParams>* vignetting, cv::Rect crop = {},
+                      double gain = 1.0) {
     const cv::Mat image_u8 = load(v);
     const View& view = views[v];
     if (image_u8.cols != view.intrinsics.width || image_u8.rows != view.intrinsics.height) {
@@ -48,6 +49,7 @@ cv::Mat loadCorrected(const ImageLoader& load, const std::vector<View>& views, s
         correctVignetting(image, (*vignetting)[view.camera], imageCentreU(view.intrinsics),
                           imageCentreV(view.intrinsics), crop.tl());
     }
+    if (gain != 1.0) image *= 1.0 / gain;
     return image;
 }
 
@@ -390,8 +392,9 @@ Layout layoutPhase(const MeshArrays& mesh, const Visibility& vis,
 /// The part of view v's image the atlas pass reads: its charts' source rectangles and the
 /// seam samples of its faces (why: as FaceStats.h observedBounds).
 ImageCrop atlasCrop(const ImageLoader& load, const std::vector<View>& views, std::size_t v,
-                    const std::vector<VignettingParams>* vignetting, const MeshArrays& mesh,
-                    const Layout& layout, const std::vector<std::uint32_t>& charts,
+                    const std::vector<VignettingParams>* vignetting, double gain,
+                    const MeshArrays& mesh, const Layout& layout,
+                    const std::vector<std::uint32_t>& charts,
                     const std::vector<std::pair<std::uint32_t, bool>>& seams) {
     const cv::Size size(views[v].intrinsics.width, views[v].intrinsics.height);
     cv::Rect crop;
@@ -412,7 +415,7 @@ ImageCrop atlasCrop(const ImageLoader& load, const std::vector<View>& views, std
         }
     }
     ImageCrop image;
-    image.pixels = loadCorrected(load, views, v, vignetting, crop);
+    image.pixels = loadCorrected(load, views, v, vignetting, crop, gain);
     image.origin = crop.tl();
     image.size = size;
     return image;
@@ -422,7 +425,8 @@ ImageCrop atlasCrop(const ImageLoader& load, const std::vector<View>& views, std
 std::vector<SeamSamples> atlasPass(const MeshArrays& mesh, const std::vector<View>& views,
                                    const ImageLoader& load,
                                    const std::vector<VignettingParams>* vignetting,
-                                   const Layout& layout, bool quiet, TextureResult& result) {
+                                   const std::vector<double>& gains, const Layout& layout,
+                                   bool quiet, TextureResult& result) {
     std::vector<std::vector<std::uint32_t>> charts_of_view(views.size());
     for (std::uint32_t c = 0; c < layout.atlas.charts.size(); ++c) {
         charts_of_view[layout.atlas.charts[c].view].push_back(c);
@@ -437,7 +441,8 @@ std::vector<SeamSamples> atlasPass(const MeshArrays& mesh, const std::vector<Vie
     Progress progress("texture: atlas", views.size(), quiet);
     tbb::parallel_for(std::size_t{0}, views.size(), [&](std::size_t v) {
         if (!charts_of_view[v].empty() || !seams_of_view[v].empty()) {
-            const ImageCrop image = atlasCrop(load, views, v, vignetting, mesh, layout,
+            const double gain = v < gains.size() ? gains[v] : 1.0;
+            const ImageCrop image = atlasCrop(load, views, v, vignetting, gain, mesh, layout,
                                               charts_of_view[v], seams_of_view[v]);
             for (std::uint32_t c : charts_of_view[v]) {
                 const Chart& chart = layout.atlas.charts[c];
@@ -470,7 +475,7 @@ void levelSeams(const MeshArrays& mesh, const Layout& layout,
     tbb::parallel_for(std::size_t{0}, layout.atlas.charts.size(), [&](std::size_t c) {
         const Chart& chart = layout.atlas.charts[c];
         applyChartCorrection(chart, layout.face_pixels, leveling.corner_correction,
-                             result.pages[chart.place.page]);
+                             result.pages[chart.place.page], leveling.log_gain);
     });
     leveling.corner_correction.clear();
     leveling.corner_correction.shrink_to_fit();
@@ -508,9 +513,27 @@ TextureResult textureMesh(const MeshArrays& mesh, const std::vector<View>& views
     const std::vector<VignettingParams>* vignetting_used =
         options.vignetting ? &vignetting : nullptr;
 
-    const std::vector<ObservationStats> obs_stats =
+    std::vector<ObservationStats> obs_stats =
         observationPass(views, vis, per_view, load, vignetting_used, options.quiet);
     clock.done("data_term");
+
+    // Exposure before view selection: E_Q and the mean colours become those of the corrected
+    // images (both are linear in the image), so the MRF and photo-consistency compare them.
+    if (options.exposure_gains) {
+        ExposureResult exposure =
+            estimateExposureGains(vis, obs_stats, views.size(), options.exposure);
+        applyExposureGains(vis, exposure.gain, obs_stats);
+        stats.exposure_gains = std::move(exposure.gain);
+        stats.exposure_faces = exposure.faces_used;
+        stats.exposure_views_without_overlap = exposure.views_without_overlap.size();
+        if (!exposure.views_without_overlap.empty()) {
+            logWarn("texture: " + std::to_string(exposure.views_without_overlap.size()) +
+                    " view(s) share no usable face with another view (first: view " +
+                    std::to_string(exposure.views_without_overlap.front()) +
+                    "); their exposure gain stays 1");
+        }
+        clock.done("exposure_gains");
+    }
 
     std::vector<char> keep(vis.obs.size(), 1);
     if (options.photo_consistency) {
@@ -525,7 +548,8 @@ TextureResult textureMesh(const MeshArrays& mesh, const std::vector<View>& views
     clock.done("patches_layout");
 
     const std::vector<SeamSamples> samples =
-        atlasPass(mesh, views, load, vignetting_used, layout, options.quiet, result);
+        atlasPass(mesh, views, load, vignetting_used, stats.exposure_gains, layout,
+                  options.quiet, result);
     clock.done("atlas_cut");
 
     if (options.global_adjustment) {

@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "ExposureGains.h"
 #include "PhotoConsistency.h"
 #include "SeamLeveling.h"
 #include "TextureTypes.h"
@@ -24,6 +25,11 @@ struct TextureOptions {
     bool vignetting = false;           ///< correct vignetting with `vignetting_params`
     bool estimate_vignetting = false;  ///< estimate the parameters instead (needs vignetting)
     std::vector<VignettingParams> vignetting_params;  ///< per camera index (View::camera)
+    /// Estimate one exposure gain per image from the overlaps (ExposureGains.h) and texture
+    /// from the corrected images; the view selection and photo-consistency compare corrected
+    /// colours.
+    bool exposure_gains = true;
+    ExposureOptions exposure;
     bool photo_consistency = true;
     PhotoConsistencyOptions photo;
     bool global_adjustment = true;
@@ -51,6 +57,9 @@ struct TextureStats {
     SeamLevelingResult leveling_summary;                   ///< corner corrections cleared after use
     std::vector<VignettingEstimate> vignetting_estimates;  ///< per camera, if estimated
     std::vector<VignettingParams> vignetting_used;         ///< per camera
+    std::vector<double> exposure_gains;                    ///< per view, if estimated
+    std::size_t exposure_faces = 0;                        ///< faces the gains came from
+    std::size_t exposure_views_without_overlap = 0;        ///< views kept at gain 1
     std::vector<std::pair<std::string, double>> timings_s;
     std::vector<std::pair<std::string, std::size_t>> peak_memory_bytes;
 };
@@ -65,7 +74,7 @@ struct TextureResult {
 };
 
 /// Textures a mesh from the views that see it (paper Sec. 5): optional vignetting estimation
-/// and correction, data term E_Q and mean colours in one streaming pass over the images,
+/// and correction, exposure gains per image (before view selection), data term E_Q and mean colours in one streaming pass over the images,
 /// photo-consistency check, view-selection MRF, patches and atlas layout, a second pass over
 /// the chosen views that cuts the charts and samples the seams, global colour adjustment, UVs.
 /// Images are loaded one per task and never kept (memory: one image per thread + the atlas).

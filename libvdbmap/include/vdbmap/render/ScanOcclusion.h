@@ -1,0 +1,82 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <limits>
+#include <vector>
+
+#include "vdbmap/core/Types.h"
+#include "vdbmap/io/Camera.h"
+#include "vdbmap/mesh/MeshArrays.h"
+#include "vdbmap/render/Visibility.h"
+
+namespace vdbmap {
+
+class Dataset;
+class Progress;
+
+/// When a LiDAR return hides a face from a view: the scan nearest in time to the image,
+/// projected into it as a sparse depth image, min-filtered over (2 r + 1)^2 pixels to close the
+/// gaps between the beams, is compared with the depth of the face.
+struct ScanOcclusionOptions {
+    int dilate_px = 2;  ///< r of the min filter, pixels
+    /// A return hides a face sample at camera depth z when its depth is below
+    /// z * (1 - margin_rel) - margin_m. The relative part absorbs the spread of the min filter
+    /// over slanted surfaces (ground at depth z: about z^2 / (f h) metres per pixel).
+    double margin_m = 0.3;
+    double margin_rel = 0.1;
+    /// The face is hidden when at least this fraction of its 4 samples (the centroid and the
+    /// corners pulled 30 % towards it) is.
+    double min_hidden_fraction = 0.5;
+};
+
+/// Camera depth (metres, along z) of the nearest scan return per pixel, +inf where none.
+struct ScanDepthImage {
+    int width = 0, height = 0;
+    std::vector<float> depth_m;  ///< row-major
+    float at(int x, int y) const {
+        if (x < 0 || y < 0 || x >= width || y >= height) {
+            return std::numeric_limits<float>::infinity();
+        }
+        return depth_m[static_cast<std::size_t>(y) * width + x];
+    }
+};
+
+/// Projects points given in the camera frame C into the image (nearest pixel, z-buffered
+/// minimum depth) and min-filters the result with a square window of radius dilate_px.
+/// Points behind the camera or outside the image are skipped. Empty input gives an all-+inf
+/// image. Throws InvalidInput for a non-positive image size or dilate_px < 0.
+ScanDepthImage scanDepthImage(const std::vector<Vec3f>& points_C,
+                              const CameraIntrinsics& intrinsics, int dilate_px);
+
+/// True if the depth image hides the triangle (corners in the camera frame C) by the test of
+/// ScanOcclusionOptions.
+bool faceHiddenByScan(const ScanDepthImage& depth, const std::array<Vec3d, 3>& corners_C,
+                      const CameraIntrinsics& intrinsics, const ScanOcclusionOptions& options);
+
+/// The scan points of the scan nearest in time to view v, in v's camera frame C. Called once per
+/// view, from TBB tasks: must be thread-safe.
+using ViewScanFn = std::function<std::vector<Vec3f>(std::size_t view)>;
+
+/// Removes from `vis` every observation whose face the scan of its view hides (faceHiddenByScan).
+/// `mesh` must index faces as `vis` does (meshArrays(..., DeletedFaces::Collapse) of the mesh
+/// the visibility was computed on). Parallel over views; `progress` (optional) is ticked per
+/// view. Returns the number of observations removed. Throws InvalidInput on size mismatch and
+/// what `scan_of_view` throws.
+std::size_t removeScanOccluded(Visibility& vis, const MeshArrays& mesh,
+                               const std::vector<View>& views, const ViewScanFn& scan_of_view,
+                               const ScanOcclusionOptions& options, Progress* progress = nullptr);
+
+/// The frame whose scan is nearest in time to the images of frame `frame`. Every layout gives an
+/// image the timestamp of its frame (docs/DATA.md: camera and LiDAR are synchronised, KITTI
+/// triggers the cameras on the LiDAR sweep), so this is `frame` itself (dt = 0); the one place
+/// to change if images ever carry their own times. Throws std::out_of_range past numFrames().
+std::size_t nearestScanFrame(const Dataset& dataset, std::size_t frame);
+
+/// ViewScanFn of a dataset: reads the nearest scan of each view's frame (nearestScanFrame) and
+/// maps it into the view's camera frame, T_C_L = T_C_W * T_W_L.
+ViewScanFn datasetViewScans(const Dataset& dataset, const std::vector<View>& views);
+
+}  // namespace vdbmap

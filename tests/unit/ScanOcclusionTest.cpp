@@ -1,0 +1,154 @@
+// SPDX-License-Identifier: Apache-2.0
+// Faces hidden by the scan nearest in time to an image (render/ScanOcclusion.h): a wall behind
+// a box the LiDAR saw, the ground that must not hide itself, the depth image's min filter.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+#include "vdbmap/Error.h"
+#include "vdbmap/render/ScanOcclusion.h"
+
+using vdbmap::MeshArrays;
+using vdbmap::Vec3d;
+using vdbmap::Vec3f;
+using vdbmap::View;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// A 640 x 480 pinhole camera, f = 500 px, at the origin looking along +z (C = W).
+View frontView() {
+    View view;
+    view.intrinsics.width = 640;
+    view.intrinsics.height = 480;
+    view.intrinsics.fx = view.intrinsics.fy = 500;
+    view.intrinsics.cx = 319.5;
+    view.intrinsics.cy = 239.5;
+    return view;
+}
+
+/// A grid of cell x cell quads (two triangles each); corner(i, j) gives vertex (i, j).
+template <typename CornerFn>
+void addGrid(MeshArrays& mesh, int nx, int ny, CornerFn&& corner) {
+    const auto base = static_cast<std::uint32_t>(mesh.vertices_W.size());
+    for (int j = 0; j <= ny; ++j) {
+        for (int i = 0; i <= nx; ++i) mesh.vertices_W.push_back(corner(i, j));
+    }
+    auto id = [&](int i, int j) { return base + static_cast<std::uint32_t>(j * (nx + 1) + i); };
+    for (int j = 0; j < ny; ++j) {
+        for (int i = 0; i < nx; ++i) {
+            mesh.faces.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+            mesh.faces.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+        }
+    }
+}
+
+/// Every face seen by view 0.
+vdbmap::Visibility seenByOneView(const MeshArrays& mesh) {
+    vdbmap::Visibility vis;
+    vis.offsets.resize(mesh.faces.size() + 1);
+    vis.obs.resize(mesh.faces.size());
+    for (std::size_t f = 0; f <= mesh.faces.size(); ++f) vis.offsets[f] = f;
+    return vis;
+}
+
+Vec3f centroid(const MeshArrays& mesh, std::size_t f) {
+    return (mesh.vertices_W[mesh.faces[f][0]] + mesh.vertices_W[mesh.faces[f][1]] +
+            mesh.vertices_W[mesh.faces[f][2]]) / 3.0f;
+}
+
+/// LiDAR-like returns from the origin: rays every `step_deg` in azimuth and elevation, each
+/// hitting the nearest of the wall z = 10 m and the box front z = 5 m (x in [-2, -0.5],
+/// y in [-1, 1]) if `with_box`. Points in C = W.
+std::vector<Vec3f> scanWallAndBox(bool with_box, double step_deg) {
+    std::vector<Vec3f> points;
+    const double step = step_deg * kPi / 180.0;
+    for (double el = -0.5; el <= 0.5; el += step) {
+        for (double az = -0.7; az <= 0.7; az += step) {
+            const Vec3d dir(std::tan(az), std::tan(el), 1.0);  // z = 1
+            Vec3d hit = 10.0 * dir;
+            const Vec3d box = 5.0 * dir;
+            if (with_box && box.x() >= -2.0 && box.x() <= -0.5 && std::abs(box.y()) <= 1.0) {
+                hit = box;
+            }
+            points.push_back(hit.cast<float>());
+        }
+    }
+    return points;
+}
+
+}  // namespace
+
+TEST_CASE("a wall behind a box the scan saw is hidden, the rest is not", "[render][scan_occlusion]") {
+    MeshArrays mesh;  // the wall z = 10 m, x in [-5, 5], y in [-3.5, 3.5], 0.25 m cells
+    addGrid(mesh, 40, 28, [](int i, int j) { return Vec3f(-5.0f + 0.25f * i, -3.5f + 0.25f * j, 10.0f); });
+    const std::vector<View> views = {frontView()};
+    // An HDL-64-like 0.4 degree spacing: 3.5 px between the returns at f = 500 px.
+    for (const bool with_box : {true, false}) {
+        vdbmap::Visibility vis = seenByOneView(mesh);
+        const auto scan = scanWallAndBox(with_box, 0.4);
+        const std::size_t removed = vdbmap::removeScanOccluded(
+            vis, mesh, views, [&](std::size_t) { return scan; }, {});
+        std::vector<char> kept(mesh.faces.size(), 0);
+        for (std::size_t f = 0; f < mesh.faces.size(); ++f) kept[f] = vis.count(f) == 1;
+        std::size_t hidden_inside = 0, inside = 0, hidden_outside = 0;
+        for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+            const Vec3f c = centroid(mesh, f);
+            // The box's shadow on the wall from the camera: x in [-4, -1], y in [-2, 2].
+            const bool deep_inside = c.x() > -3.8f && c.x() < -1.2f && std::abs(c.y()) < 1.8f;
+            const bool clearly_outside = c.x() < -4.3f || c.x() > -0.7f || std::abs(c.y()) > 2.3f;
+            if (deep_inside) {
+                ++inside;
+                hidden_inside += !kept[f];
+            }
+            if (clearly_outside) hidden_outside += !kept[f];
+        }
+        CHECK(hidden_outside == 0);  // the wall's own returns never hide it
+        if (with_box) {
+            CHECK(inside > 200);
+            CHECK(hidden_inside == inside);
+            CHECK(removed >= inside);
+        } else {
+            CHECK(removed == 0);
+        }
+    }
+}
+
+TEST_CASE("the ground does not hide itself up to 40 m", "[render][scan_occlusion]") {
+    // Camera 1.7 m above the ground (image y points down: the ground is y = +1.7), LiDAR rings
+    // from the same height every 0.4 degrees of elevation, 0.1 degrees of azimuth.
+    MeshArrays mesh;
+    addGrid(mesh, 40, 190, [](int i, int j) { return Vec3f(-4.0f + 0.2f * i, 1.7f, 2.0f + 0.2f * j); });
+    std::vector<Vec3f> scan;
+    for (double el_deg = 2.4; el_deg <= 40.0; el_deg += 0.4) {
+        const double range = 1.7 / std::tan(el_deg * kPi / 180.0);
+        for (double az_deg = -40; az_deg <= 40; az_deg += 0.1) {
+            const double az = az_deg * kPi / 180.0;
+            scan.emplace_back(static_cast<float>(range * std::sin(az)), 1.7f,
+                              static_cast<float>(range * std::cos(az)));
+        }
+    }
+    vdbmap::Visibility vis = seenByOneView(mesh);
+    const std::size_t removed = vdbmap::removeScanOccluded(
+        vis, mesh, {frontView()}, [&](std::size_t) { return scan; }, {});
+    CHECK(removed == 0);
+}
+
+TEST_CASE("the scan depth image keeps the nearest return and min-filters it", "[render][scan_occlusion]") {
+    const View view = frontView();
+    // Two returns on the optical axis's pixel: the nearer wins; one at pixel (330, 240).
+    const std::vector<Vec3f> points = {Vec3f(0, 0, 8), Vec3f(0, 0, 4), Vec3f(0.2f, 0, 10)};
+    const auto raw = vdbmap::scanDepthImage(points, view.intrinsics, 0);
+    CHECK(raw.at(320, 240) == 4.0f);  // (319.5, 239.5) rounds to (320, 240)
+    CHECK(raw.at(330, 240) == 10.0f);
+    CHECK(std::isinf(raw.at(321, 240)));
+    CHECK(std::isinf(raw.at(-1, 0)));
+    const auto dilated = vdbmap::scanDepthImage(points, view.intrinsics, 2);
+    CHECK(dilated.at(322, 242) == 4.0f);
+    CHECK(dilated.at(318, 238) == 4.0f);
+    CHECK(std::isinf(dilated.at(323, 240)));  // 2 px from neither return
+    CHECK(dilated.at(328, 240) == 10.0f);
+    CHECK(std::isinf(dilated.at(325, 240)));
+    CHECK_THROWS_AS(vdbmap::scanDepthImage(points, view.intrinsics, -1), vdbmap::InvalidInput);
+}
