@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "pipeline/TileStream.h"
 
+#include "pipeline/RunJournal.h"
+
 #include <string>
 
 #include "vdbmap/core/Log.h"
@@ -96,14 +98,50 @@ void TileStream::finish(const PlannedTile& planned, long after_frame) {
     if (ctx.hasDataset()) {
         TileGrid::assignViews(*tile, views_, setup_.tiling->max_view_distance_m);
     }
+    const nlohmann::json inputs =
+        setup_.journal || setup_.previous ? tileInputs(setup_.config_hash, *tile) : nlohmann::json();
+    if (setup_.previous && keep(*tile, inputs)) {
+        if (setup_.tile_seconds) *setup_.tile_seconds += timer.elapsedSeconds();
+        return;
+    }
     TileOutcome outcome = runTile(*setup_.stages, setup_.first, *setup_.output, ctx,
                                   std::shared_ptr<const Tile>(tile), after_frame, *setup_.current);
+    if (setup_.journal) {
+        setup_.journal->append(tileEntry(inputs, outcome, ctx.outputDir()));
+        testKillAfterTiles(setup_.journal->appended());
+    }
+    record(std::move(outcome));
+    if (setup_.tile_seconds) *setup_.tile_seconds += timer.elapsedSeconds();
+}
+
+void TileStream::record(TileOutcome outcome) {
     if (outcome.empty) {
         ++without_faces_;
     } else {
         outcomes_.push_back(std::move(outcome));
     }
-    if (setup_.tile_seconds) *setup_.tile_seconds += timer.elapsedSeconds();
+}
+
+bool TileStream::keep(const Tile& tile, const nlohmann::json& inputs) {
+    const std::string name = tile.name();
+    if (!setup_.redo_all_reason.empty()) {
+        decisions_.push_back({name, "redone", setup_.redo_all_reason});
+        return false;
+    }
+    const auto it = setup_.previous->tiles.find(name);
+    if (it == setup_.previous->tiles.end()) {
+        decisions_.push_back({name, "new", "not finished by the earlier run"});
+        return false;
+    }
+    const std::string why = whyRedo(it->second, inputs, setup_.ctx->outputDir());
+    if (!why.empty()) {
+        logInfo("tile " + name + ": " + why + ", redoing");
+        decisions_.push_back({name, "redone", why});
+        return false;
+    }
+    decisions_.push_back({name, "kept", ""});
+    record(it->second.outcome);
+    return true;
 }
 
 }  // namespace vdbmap::detail
