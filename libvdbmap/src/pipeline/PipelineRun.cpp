@@ -433,7 +433,8 @@ private:
         nlohmann::json tiles = nlohmann::json::object();
         std::map<std::string, std::size_t> counts{{"kept", 0}, {"redone", 0}, {"new", 0}};
         for (const std::string& text : summaries) {
-            for (const auto& d : nlohmann::json::parse(text)["resume"]) {
+            const nlohmann::json summary = nlohmann::json::parse(text);
+            for (const auto& d : summary["resume"]) {
                 const std::string action = d["action"];
                 ++counts[action];
                 nlohmann::json entry = {{"action", action}};
