@@ -135,8 +135,12 @@ nlohmann::json tileInputs(const std::string& config_hash, const Tile& tile) {
                     tile.halo_W.max_W.x(), tile.halo_W.max_W.y(), tile.halo_W.max_W.z()}}};
     return {{"config", config_hash},
             {"bounds", hashOf(bounds)},
-            {"scan_frames", hashOf(nlohmann::json(tile.scan_frames))},
+            {"scan_frames", scanFramesHash(tile.scan_frames)},
             {"views", hashOf(views)}};
+}
+
+std::string scanFramesHash(const std::vector<std::size_t>& scan_frames) {
+    return hashOf(nlohmann::json(scan_frames));
 }
 
 nlohmann::json tileEntry(const nlohmann::json& inputs, const TileOutcome& outcome,

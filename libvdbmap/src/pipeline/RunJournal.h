@@ -72,6 +72,9 @@ struct JournalContents {
 /// each hashed, so that a resume can say which one changed.
 nlohmann::json tileInputs(const std::string& config_hash, const Tile& tile);
 
+/// The "scan_frames" hash of tileInputs() for these frames.
+std::string scanFramesHash(const std::vector<std::size_t>& scan_frames);
+
 /// The journal entry of a finished tile: its inputs, the size and FNV-1a of each file of its
 /// index entry (read back from `output_dir`), and its index and report entries.
 nlohmann::json tileEntry(const nlohmann::json& inputs, const TileOutcome& outcome,

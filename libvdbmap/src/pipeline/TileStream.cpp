@@ -38,6 +38,7 @@ std::vector<std::size_t> TileStream::begin(const Dataset& dataset, double update
                 std::to_string(setup_.processes - static_cast<int>(plan_->tiles.size())) +
                 " process(es) get no tile");
     }
+    if (setup_.processes > 1 && setup_.previous && setup_.redo_all_reason.empty()) balanceResume();
     for (const PlannedTile& t : plan_->tiles) {
         if (t.process == setup_.process) pending_.push_back(&t);
     }
@@ -51,6 +52,28 @@ std::vector<std::size_t> TileStream::begin(const Dataset& dataset, double update
                                         std::to_string(dataset.numFrames()) + " frames"
                                   : std::string()));
     return frames_;
+}
+
+void TileStream::balanceResume() {
+    // A tile the earlier run finished with the same scans will most likely be kept: its
+    // process still integrates its scans (its part of map.vdb) but runs no stage on it. Every
+    // process reads the same journal, so every process computes the same assignment.
+    constexpr double kKeptCostShare = 0.1;
+    std::vector<double> costs;
+    std::size_t likely_kept = 0;
+    for (const PlannedTile& t : plan_->tiles) {
+        const auto it = setup_.previous->tiles.find(std::to_string(t.ix) + "_" + std::to_string(t.iy));
+        const bool kept = it != setup_.previous->tiles.end() &&
+                          it->second.inputs.value("scan_frames", "") == scanFramesHash(t.scan_frames);
+        likely_kept += kept ? 1 : 0;
+        costs.push_back(kept ? t.cost * kKeptCostShare : t.cost);
+    }
+    const std::vector<int> parts = partitionContiguous(costs, setup_.processes);
+    for (std::size_t i = 0; i < parts.size(); ++i) plan_->tiles[i].process = parts[i];
+    if (setup_.process == 0) {
+        logInfo("tiling: " + std::to_string(likely_kept) + " of " + std::to_string(costs.size()) +
+                " planned tiles are in the journal; the others are balanced over the processes");
+    }
 }
 
 void TileStream::frameIntegrated(std::size_t frame) {

@@ -115,6 +115,9 @@ public:
 
 private:
     void finish(const PlannedTile& planned, long after_frame);
+    /// A distributed resume: the tiles given to the processes again, those the journal will
+    /// likely keep at a tenth of their cost, so that the tiles still to do are balanced.
+    void balanceResume();
     /// A resumed run: keeps `tile` from the earlier run's journal if its entry holds
     /// (returns true), else records why it is redone.
     bool keep(const Tile& tile, const nlohmann::json& inputs);
