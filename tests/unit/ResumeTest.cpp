@@ -23,6 +23,7 @@
 #include <sstream>
 #include <string>
 
+#include "pipeline/RunJournal.h"
 #include "support/CliRun.h"
 #include "support/OutputCompare.h"
 
@@ -322,4 +323,44 @@ TEST_CASE("a full disk during a tile fails the run; a resume with space complete
     INFO(resumed.log);
     REQUIRE(resumed.code == 0);
     requireSameOutputs(dir);
+}
+
+TEST_CASE("the journal's checksum, config differences and a torn last line", "[resume]") {
+    // FNV-1a 64 reference values (Fowler, Noll, Vo: the test vectors of the FNV page).
+    CHECK(detail::hex64(detail::fnv1a64("")) == "cbf29ce484222325");
+    CHECK(detail::hex64(detail::fnv1a64("a")) == "af63dc4c8601ec8c");
+    CHECK(detail::hex64(detail::fnv1a64("foobar")) == "85944171f73967e8");
+    // Continued hashing equals hashing the concatenation (files are hashed in blocks).
+    CHECK(detail::fnv1a64("bar", detail::fnv1a64("foo")) == detail::fnv1a64("foobar"));
+
+    const nlohmann::json before = {{"stages", {{{"stage", "semantic.mrf"}, {"options", {{"x", 1.0}}}}}}};
+    nlohmann::json now = before;
+    now["stages"][0]["options"]["x"] = 2.0;
+    const auto diffs = detail::configDifferences(before, now);
+    REQUIRE(diffs.size() == 1);
+    CHECK(diffs[0] == "stages[0] semantic.mrf x: 1.0 -> 2.0");
+
+    // A journal whose last line a kill cut in half: the line is skipped, the rest is read.
+    const fs::path dir = freshDir("torn");
+    fs::create_directories(dir);
+    const auto header = detail::JournalHeader::fromResolvedConfig(R"({"output": {"dir": "x"}, "stages": []})");
+    detail::RunJournal::start(dir, header, {});
+    {
+        detail::RunJournal journal(dir);
+        detail::TileOutcome empty;
+        empty.name = "0_0";
+        journal.append(detail::tileEntry({{"config", header.config_hash}}, empty, dir));
+    }
+    std::ofstream(dir / "journal.jsonl", std::ios::app) << R"({"tile": {"name": "1_0", "inp)";
+    const auto contents = detail::RunJournal::read(dir);
+    REQUIRE(contents);
+    REQUIRE(contents->header);
+    CHECK(contents->header->config_hash == header.config_hash);
+    CHECK(contents->tiles.size() == 1);
+    CHECK(contents->tiles.count("0_0") == 1);
+    CHECK(contents->bad_lines == 1);
+    CHECK_FALSE(contents->finished);
+    // output.dir is not part of what decides a tile.
+    CHECK(detail::JournalHeader::fromResolvedConfig(R"({"output": {"dir": "y"}, "stages": []})")
+              .config_hash == header.config_hash);
 }
