@@ -10,14 +10,14 @@
 //  - a changed semantic option or voxel size: every tile is redone, and the run says why;
 //  - without --resume on an interrupted run's folder: the run says --resume exists and redoes all;
 //  - a file-size limit (a full disk) during a tile: exit 1; a resume without it completes.
-#include <catch2/catch.hpp>
 #include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <filesystem>
-#include <functional>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -189,7 +189,8 @@ std::string tileWith(const std::string& subdir, const std::string& skip = "") {
         const std::string name = j["tile"]["name"];
         if (name == skip) continue;
         for (const auto& f : j["tile"]["files"]) {
-            if (f["path"].get<std::string>().find("/" + subdir + "/") != std::string::npos) return name;
+            if (f["path"].get<std::string>().find("/" + subdir + "/") != std::string::npos)
+                return name;
         }
     }
     return {};
@@ -249,8 +250,10 @@ TEST_CASE("a corrupted and a deleted tile file: exactly those two tiles are redo
     const Run resumed = run(dir, {"--resume"});
     INFO(resumed.log);
     REQUIRE(resumed.code == 0);
-    CHECK_THAT(resumed.log, Contains("tile " + corrupted + ": semantic/mesh.ply checksum differs, redoing"));
-    CHECK_THAT(resumed.log, Contains("tile " + deleted + ": textured/mesh.obj is missing, redoing"));
+    CHECK_THAT(resumed.log,
+               Contains("tile " + corrupted + ": semantic/mesh.ply checksum differs, redoing"));
+    CHECK_THAT(resumed.log,
+               Contains("tile " + deleted + ": textured/mesh.obj is missing, redoing"));
     requireSameOutputs(dir);
     const nlohmann::json resume = resumeSection(dir);
     CHECK(resume["redone"] == 2);
@@ -333,7 +336,8 @@ TEST_CASE("the journal's checksum, config differences and a torn last line", "[r
     // Continued hashing equals hashing the concatenation (files are hashed in blocks).
     CHECK(detail::fnv1a64("bar", detail::fnv1a64("foo")) == detail::fnv1a64("foobar"));
 
-    const nlohmann::json before = {{"stages", {{{"stage", "semantic.mrf"}, {"options", {{"x", 1.0}}}}}}};
+    const nlohmann::json before = {
+        {"stages", {{{"stage", "semantic.mrf"}, {"options", {{"x", 1.0}}}}}}};
     nlohmann::json now = before;
     now["stages"][0]["options"]["x"] = 2.0;
     const auto diffs = detail::configDifferences(before, now);
@@ -343,7 +347,8 @@ TEST_CASE("the journal's checksum, config differences and a torn last line", "[r
     // A journal whose last line a kill cut in half: the line is skipped, the rest is read.
     const fs::path dir = freshDir("torn");
     fs::create_directories(dir);
-    const auto header = detail::JournalHeader::fromResolvedConfig(R"({"output": {"dir": "x"}, "stages": []})");
+    const auto header =
+        detail::JournalHeader::fromResolvedConfig(R"({"output": {"dir": "x"}, "stages": []})");
     detail::RunJournal::start(dir, header, {});
     {
         detail::RunJournal journal(dir);

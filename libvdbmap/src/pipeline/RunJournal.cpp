@@ -38,7 +38,7 @@ void writeAll(int fd, std::string_view text, const fs::path& file) {
     }
 }
 
-/// Reads "<...>/<name>" hashes of one value: the same JSON dump gives the same hash.
+/// hex64 of the FNV-1a of a value's JSON text (nlohmann dumps object keys sorted).
 std::string hashOf(const nlohmann::json& value) { return hex64(fnv1a64(value.dump())); }
 
 std::string valueText(const nlohmann::json* value) {
@@ -129,10 +129,12 @@ nlohmann::json tileInputs(const std::string& config_hash, const Tile& tile) {
     for (const auto& [frame, camera] : tile.views) views.push_back({frame, camera});
     const nlohmann::json bounds = {
         {"voxel_size_m", tile.voxel_size_m},
-        {"core_W", {tile.core_W.min_W.x(), tile.core_W.min_W.y(), tile.core_W.min_W.z(),
-                    tile.core_W.max_W.x(), tile.core_W.max_W.y(), tile.core_W.max_W.z()}},
-        {"halo_W", {tile.halo_W.min_W.x(), tile.halo_W.min_W.y(), tile.halo_W.min_W.z(),
-                    tile.halo_W.max_W.x(), tile.halo_W.max_W.y(), tile.halo_W.max_W.z()}}};
+        {"core_W",
+         {tile.core_W.min_W.x(), tile.core_W.min_W.y(), tile.core_W.min_W.z(),
+          tile.core_W.max_W.x(), tile.core_W.max_W.y(), tile.core_W.max_W.z()}},
+        {"halo_W",
+         {tile.halo_W.min_W.x(), tile.halo_W.min_W.y(), tile.halo_W.min_W.z(),
+          tile.halo_W.max_W.x(), tile.halo_W.max_W.y(), tile.halo_W.max_W.z()}}};
     return {{"config", config_hash},
             {"bounds", hashOf(bounds)},
             {"scan_frames", scanFramesHash(tile.scan_frames)},
@@ -145,8 +147,11 @@ std::string scanFramesHash(const std::vector<std::size_t>& scan_frames) {
 
 nlohmann::json tileEntry(const nlohmann::json& inputs, const TileOutcome& outcome,
                          const fs::path& output_dir) {
-    nlohmann::json tile = {{"name", outcome.name}, {"ix", outcome.ix}, {"iy", outcome.iy},
-                           {"inputs", inputs}, {"empty", outcome.empty}};
+    nlohmann::json tile = {{"name", outcome.name},
+                           {"ix", outcome.ix},
+                           {"iy", outcome.iy},
+                           {"inputs", inputs},
+                           {"empty", outcome.empty}};
     nlohmann::json files = nlohmann::json::array();
     if (!outcome.empty) {
         const nlohmann::json index = nlohmann::json::parse(outcome.index_json);
@@ -168,14 +173,16 @@ nlohmann::json tileEntry(const nlohmann::json& inputs, const TileOutcome& outcom
     return {{"tile", tile}};
 }
 
-std::string whyRedo(const JournalTile& entry, const nlohmann::json& inputs, const fs::path& output_dir) {
+std::string whyRedo(const JournalTile& entry, const nlohmann::json& inputs,
+                    const fs::path& output_dir) {
     static const std::pair<const char*, const char*> kInputs[] = {
         {"config", "the configuration changed"},
         {"bounds", "its bounds changed (the map around it)"},
         {"scan_frames", "the scans that reach it changed"},
         {"views", "the views that see it changed"}};
     for (const auto& [key, why] : kInputs) {
-        if (!entry.inputs.contains(key) || entry.inputs[key] != inputs.value(key, nlohmann::json())) {
+        if (!entry.inputs.contains(key) ||
+            entry.inputs[key] != inputs.value(key, nlohmann::json())) {
             return why;
         }
     }
@@ -214,7 +221,8 @@ std::vector<std::string> configDifferences(const nlohmann::json& before, const n
         const std::size_t close = path.find(']');
         if (path.rfind("stages[", 0) == 0 && close != std::string::npos) {
             const std::size_t i = std::stoul(path.substr(7, close - 7));
-            const nlohmann::json& stages = now.contains("stages") ? now["stages"] : before["stages"];
+            const nlohmann::json& stages =
+                now.contains("stages") ? now["stages"] : before["stages"];
             std::string rest = path.substr(close + 1);
             if (rest.rfind(".options.", 0) == 0) rest = rest.substr(9);
             if (i < stages.size()) {
@@ -300,8 +308,8 @@ std::optional<JournalContents> RunJournal::read(const fs::path& output_dir) {
 void RunJournal::start(const fs::path& output_dir, const JournalHeader& header,
                        const std::vector<std::string>& lines) {
     const fs::path file = output_dir / kFileName;
-    const fs::path temp = output_dir / ("." + std::string(kFileName) + ".tmp" +
-                                        std::to_string(::getpid()) + "-0");
+    const fs::path temp =
+        output_dir / ("." + std::string(kFileName) + ".tmp" + std::to_string(::getpid()) + "-0");
     std::string text = header.toJson().dump() + "\n";
     for (const std::string& line : lines) text += line + "\n";
     const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);

@@ -55,16 +55,16 @@ struct JournalTile {
     nlohmann::json inputs;  ///< tileInputs()
     bool empty = false;     ///< finished without a core face (nothing written)
     std::vector<File> files;
-    TileOutcome outcome;    ///< index and report entries (empty: only name, ix, iy)
-    std::string line;       ///< the line as read
+    TileOutcome outcome;  ///< index and report entries (empty: only name, ix, iy)
+    std::string line;     ///< the line as read
 };
 
 /// A journal as read back.
 struct JournalContents {
-    std::optional<JournalHeader> header;  ///< nullopt: no readable header
+    std::optional<JournalHeader> header;       ///< nullopt: no readable header
     std::map<std::string, JournalTile> tiles;  ///< by name; a later entry replaces an earlier
-    bool finished = false;     ///< the run wrote its "end" line (tiles.json was written)
-    std::size_t bad_lines = 0; ///< lines that are not JSON or not an entry (a torn last line)
+    bool finished = false;      ///< the run wrote its "end" line (tiles.json was written)
+    std::size_t bad_lines = 0;  ///< lines that are not JSON or not an entry (a torn last line)
 };
 
 /// The inputs that decide a tile's outputs: the configuration's hash, the tile's key and
@@ -88,8 +88,8 @@ std::string whyRedo(const JournalTile& entry, const nlohmann::json& inputs,
 
 /// The options that differ between two header configs, as "stages[3] semantic.mrf
 /// max_view_angle_deg: 88 -> 80" (at most `max_items`, then "...").
-std::vector<std::string> configDifferences(const nlohmann::json& before,
-                                           const nlohmann::json& now, std::size_t max_items = 8);
+std::vector<std::string> configDifferences(const nlohmann::json& before, const nlohmann::json& now,
+                                           std::size_t max_items = 8);
 
 /// `<output>/journal.jsonl`: one JSON object per line, appended as tiles finish, each line one
 /// write(2) on an O_APPEND descriptor followed by fsync(2) (the processes of an MPI run append
