@@ -10,6 +10,7 @@ set(VDBMAP_TEST_COSTS
     LidarLabelStageTest 200
     AdaptiveVsFixedTest 70
     FaultTest 50
+    ResumeTest 50
     TextureRigTest 40
     SemanticStageTest 25
     CompactTsdfTest 20

@@ -24,6 +24,7 @@ struct RunArgs {
     int threads = 0;
     bool quiet = false;
     bool check_only = false;
+    bool resume = false;
 };
 
 /// The number of processes an MPI launcher started this one among: OMPI_COMM_WORLD_SIZE
@@ -73,6 +74,7 @@ int runPipeline(const RunArgs& args, vdbmap::ProcessGroup* group) {
     const std::filesystem::path out =
         args.output_dir.empty() ? std::filesystem::path(pipeline->outputConfig().dir)
                                 : std::filesystem::path(args.output_dir);
+    pipeline->setResume(args.resume);
     vdbmap::Report report;
     if (group != nullptr) {
         pipeline->run(out, report, quiet, *group);
@@ -99,6 +101,10 @@ void addRunCommand(CLI::App& app, int& exit_code, vdbmap::ProcessGroup* group) {
     run->add_option("--threads", args->threads, "Worker threads (default: all cores)")
         ->check(CLI::Range(1, 4096));
     run->add_flag("-q,--quiet", args->quiet, "Only warnings and errors; no progress bars");
+    run->add_flag("--resume", args->resume,
+                  "Tiled runs: keep the tiles an interrupted (or earlier) run in the output "
+                  "folder finished whose inputs and files still match its journal "
+                  "(journal.jsonl), redo the others (docs/tiling.md, Resume)");
     run->add_flag("--check", args->check_only,
                   "Load and check the config (keys, types, plugins, layers) without running");
     run->callback([args, &exit_code, group] { exit_code = runPipeline(*args, group); });

@@ -5,6 +5,8 @@
 // is a warning. OMPI_ALLOW_RUN_AS_ROOT(_CONFIRM) are set for the mpirun child only.
 #include <catch2/catch.hpp>
 
+#include <signal.h>
+
 #include <array>
 #include <cstdlib>
 #include <filesystem>
@@ -195,4 +197,64 @@ TEST_CASE("mpirun -np 2 vdbmap run stops at once, naming vdbmap-mpi run", "[mpi]
     CHECK(code == 2);
     CHECK(two.log().find("vdbmap-mpi run") != std::string::npos);
     CHECK_FALSE(fs::exists(out));
+}
+
+TEST_CASE("A single-process run killed is resumed under mpirun -np 3, and the other way round",
+          "[mpi][tiles][resume]") {
+    // docs/tiling.md "Resume": the journal's tiles are kept whichever process count wrote or
+    // reads it; the outputs are those of an uninterrupted single-process run.
+    const fs::path seq = sequence();
+    const fs::path config = writeConfig(workDir() / "resume.yaml", seq, 12.8);
+    const fs::path ref = workDir() / "resume_ref";
+    fs::remove_all(ref);
+    Child reference(test::kVdbmapExe, {"run", config.string(), "-o", ref.string(), "--quiet"});
+    REQUIRE(reference.exitCode() == 0);
+    auto requireSame = [&](const fs::path& out) {
+        const auto a = filesBelow(ref / "tiles");
+        const auto b = filesBelow(out / "tiles");
+        CHECK(a.size() == b.size());
+        for (const auto& [file, bytes] : a) {
+            INFO(file);
+            REQUIRE(b.count(file) == 1);
+            CHECK(b.at(file) == bytes);
+        }
+        CHECK(readText(ref / "tiles.json") == readText(out / "tiles.json"));
+        CHECK(vdbVoxels(ref / "map.vdb") == vdbVoxels(out / "map.vdb"));
+    };
+    auto kept = [](const fs::path& out) {
+        return nlohmann::json::parse(readText(out / "report.json"))["resume"]["kept"].get<int>();
+    };
+
+    SECTION("killed single-process run, resumed by 3 ranks") {
+        const fs::path out = workDir() / "resume_to_mpi";
+        fs::remove_all(out);
+        ChildOptions kill;
+        kill.env = {{"VDBMAP_TEST_KILL_AFTER_TILES", "2"}};
+        Child killed(test::kVdbmapExe, {"run", config.string(), "-o", out.string(), "--quiet"}, kill);
+        REQUIRE(killed.exitCode() == -SIGKILL);
+        std::vector<std::string> args = mpiArgs(3, config, out);
+        args.push_back("--resume");
+        Child job(VDBMAP_MPIEXEC, args, mpiEnv());
+        INFO(job.log());
+        REQUIRE(job.exitCode() == 0);
+        requireSame(out);
+        CHECK(kept(out) == 2);
+    }
+    SECTION("killed 3-rank run, resumed by one process") {
+        const fs::path out = workDir() / "resume_from_mpi";
+        fs::remove_all(out);
+        ChildOptions env = mpiEnv();
+        env.env.emplace_back("VDBMAP_TEST_KILL_AFTER_TILES", "1");
+        std::vector<std::string> args = mpiArgs(3, config, out);
+        args.insert(args.begin(), {"-x", "VDBMAP_TEST_KILL_AFTER_TILES"});
+        Child job(VDBMAP_MPIEXEC, args, env);
+        CHECK(job.exitCode() != 0);
+        CHECK_FALSE(fs::exists(out / "tiles.json"));
+        Child resumed(test::kVdbmapExe,
+                      {"run", config.string(), "-o", out.string(), "--quiet", "--resume"});
+        INFO(resumed.log());
+        REQUIRE(resumed.exitCode() == 0);
+        requireSame(out);
+        CHECK(kept(out) >= 1);
+    }
 }

@@ -39,6 +39,7 @@ struct Pipeline::Impl {
     std::vector<std::filesystem::path> plugin_files;
     std::vector<std::string> overrides;
     std::vector<PipelineStage> stages;
+    bool resume = false;  ///< setResume(): keep the tiles an interrupted run finished
 };
 
 namespace detail {

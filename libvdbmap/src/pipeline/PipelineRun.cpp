@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include <algorithm>
+#include <map>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -10,6 +11,7 @@
 #include "pipeline/ContextBuilder.h"
 #include "pipeline/MapGather.h"
 #include "pipeline/PipelineImpl.h"
+#include "pipeline/RunJournal.h"
 #include "pipeline/TileStream.h"
 #include "vdbmap/Error.h"
 #include "vdbmap/core/Log.h"
@@ -121,6 +123,8 @@ public:
         report_.set({"status", "state"}, "running");
         guarded([&] { openOutput(); });
         agree();
+        shareJournal();
+        agree();
         guarded([&] { compute(); });
         agree();
         guarded([&] { collect(); });
@@ -134,6 +138,9 @@ public:
 private:
     bool root() const { return group_.rank() == 0; }
     bool distributed() const { return group_.size() > 1; }
+    bool tiledRun() const {
+        return p_.tiling.enabled() && pipeline_.firstTiledStage() < p_.stages.size();
+    }
 
     void writeReport() {
         report_.set({"peak_memory_bytes"}, peakMemoryBytes());
@@ -208,6 +215,77 @@ private:
         // A tiles.json of an earlier run in this folder must not outlive a failure of this one.
         std::error_code rm_ec;
         fs::remove(output_dir_ / "tiles.json", rm_ec);
+        if (tiledRun()) {
+            startJournal();
+        } else if (p_.resume) {
+            logWarn("--resume: the run is not tiled; there is nothing to resume");
+        }
+    }
+
+    /// Process 0: reads the journal an earlier run left, decides what a resume can keep, and
+    /// starts this run's journal: the header, then (resuming with the same configuration) the
+    /// earlier entries, each checked again when its tile comes up.
+    void startJournal() {
+        header_ = JournalHeader::fromResolvedConfig(pipeline_.resolvedConfigJson());
+        const std::optional<JournalContents> old = RunJournal::read(output_dir_);
+        const fs::path file = output_dir_ / RunJournal::kFileName;
+        std::vector<std::string> lines;
+        std::string redo_all;
+        if (!p_.resume) {
+            if (old && !old->finished && !old->tiles.empty()) {
+                logInfo(file.string() + " is the journal of an interrupted run (" +
+                        std::to_string(old->tiles.size()) +
+                        " tiles finished); `vdbmap run --resume` would keep them; starting afresh");
+            }
+        } else if (!old) {
+            logInfo("--resume: no journal (" + file.string() + "); starting afresh");
+        } else {
+            if (!old->header) {
+                redo_all = "the journal has no readable header";
+            } else if (old->header->vdbmap != header_.vdbmap) {
+                redo_all = "the vdbmap version changed (" + old->header->vdbmap + " -> " +
+                           header_.vdbmap + ")";
+            } else if (old->header->voxel_size_m != header_.voxel_size_m) {
+                redo_all = "voxel_size_m changed (" + nlohmann::json(old->header->voxel_size_m).dump() +
+                           " -> " + nlohmann::json(header_.voxel_size_m).dump() + ")";
+            } else if (old->header->config_hash != header_.config_hash) {
+                std::string diffs;
+                for (const std::string& d : configDifferences(old->header->config, header_.config)) {
+                    diffs += (diffs.empty() ? "" : "; ") + d;
+                }
+                redo_all = "the configuration changed (" + diffs +
+                           ") and every tile's inputs include it";
+            }
+            if (redo_all.empty()) {
+                for (const auto& entry : old->tiles) lines.push_back(entry.second.line);
+            }
+            logInfo("--resume: the journal of " +
+                    std::string(old->finished ? "a finished" : "an interrupted") + " run, " +
+                    std::to_string(old->tiles.size()) + " tiles finished" +
+                    (redo_all.empty() ? ": keeping each tile whose inputs and files still match"
+                                      : "; " + redo_all + ": redoing every tile"));
+        }
+        RunJournal::start(output_dir_, header_, lines);
+        journal_info_ = nlohmann::json{{"redo_all", redo_all}}.dump();
+    }
+
+    /// Every process: what process 0 decided about the journal; opens it for appending and,
+    /// resuming, reads the entries process 0 carried over.
+    void shareJournal() {
+        const std::vector<std::string> all =
+            distributed() ? group_.allGather(journal_info_) : std::vector<std::string>{journal_info_};
+        guarded([&] {
+            if (!tiledRun()) return;
+            if (!root()) header_ = JournalHeader::fromResolvedConfig(pipeline_.resolvedConfigJson());
+            if (!all.at(0).empty()) {
+                redo_all_ = nlohmann::json::parse(all.at(0)).value("redo_all", "");
+            }
+            journal_.emplace(output_dir_);
+            if (p_.resume) {
+                previous_ = RunJournal::read(output_dir_);
+                if (!previous_) previous_.emplace();
+            }
+        });
     }
 
     /// Phase 2: the dataset, the stages (tiles finished as the scans stream in), the rest of
@@ -277,6 +355,10 @@ private:
         setup.process = group_.rank();
         setup.processes = group_.size();
         setup.tile_seconds = &tile_seconds_;
+        setup.journal = journal_ ? &*journal_ : nullptr;
+        setup.config_hash = header_.config_hash;
+        setup.previous = previous_ ? &*previous_ : nullptr;
+        setup.redo_all_reason = redo_all_;
         stream_ = std::make_shared<TileStream>(setup);
         ContextBuilder::setScanStream(*ctx_, stream_);
     }
@@ -351,7 +433,35 @@ private:
             // Last: the index appears only once every file it names is written.
             writeFileAtomically(output_dir_ / "tiles.json", index);
             report_.set({"outputs", "tiles_index"}, (output_dir_ / "tiles.json").string());
+            if (p_.resume) reportResume(all);
+            if (journal_) journal_->append({{"end", true}});
         }
+    }
+
+    /// report.json "resume": what the resumed run did with each tile, and why.
+    void reportResume(const std::vector<std::string>& summaries) {
+        nlohmann::json tiles = nlohmann::json::object();
+        std::map<std::string, std::size_t> counts{{"kept", 0}, {"redone", 0}, {"new", 0}};
+        for (const std::string& text : summaries) {
+            const nlohmann::json summary = nlohmann::json::parse(text);
+            for (const auto& d : summary["resume"]) {
+                const std::string action = d["action"];
+                ++counts[action];
+                nlohmann::json entry = {{"action", action}};
+                if (!d["reason"].get<std::string>().empty()) entry["reason"] = d["reason"];
+                tiles[d["name"].get<std::string>()] = entry;
+            }
+        }
+        nlohmann::json resume = {{"journal", RunJournal::kFileName},
+                                 {"kept", counts["kept"]},
+                                 {"redone", counts["redone"]},
+                                 {"new", counts["new"]},
+                                 {"tiles", tiles}};
+        if (!redo_all_.empty()) resume["redo_all"] = redo_all_;
+        report_.setJson({"resume"}, resume.dump());
+        logInfo("resume: " + std::to_string(counts["kept"]) + " tiles kept, " +
+                std::to_string(counts["redone"]) + " redone, " + std::to_string(counts["new"]) +
+                " not finished before");
     }
 
     /// What this process tells process 0: its finished tiles and its figures.
@@ -368,6 +478,12 @@ private:
         s["cpu_time_s"] = processCpuTimeS();
         s["wall_time_s"] = total_.elapsedSeconds();
         s["peak_memory_bytes"] = peakMemoryBytes();
+        s["resume"] = nlohmann::json::array();
+        if (stream_) {
+            for (const auto& d : stream_->resumeDecisions()) {
+                s["resume"].push_back({{"name", d.name}, {"action", d.action}, {"reason", d.reason}});
+            }
+        }
         if (stream_) {
             for (const TileOutcome& o : stream_->outcomes()) {
                 s["outcomes"].push_back({{"name", o.name},
@@ -421,6 +537,11 @@ private:
     std::optional<OutputLock> lock_;
     std::optional<Context> ctx_;
     std::shared_ptr<TileStream> stream_;
+    JournalHeader header_;
+    std::string journal_info_;  ///< process 0's decision (JSON), shared by shareJournal()
+    std::string redo_all_;
+    std::optional<RunJournal> journal_;
+    std::optional<JournalContents> previous_;
     double tile_seconds_ = 0.0;
     std::string current_ = "setup";
     std::exception_ptr failure_;
@@ -428,6 +549,8 @@ private:
 };
 
 }  // namespace detail
+
+void Pipeline::setResume(bool resume) { impl_->resume = resume; }
 
 void Pipeline::run(const fs::path& output_dir, Report& report, bool quiet) {
     LocalProcessGroup local;

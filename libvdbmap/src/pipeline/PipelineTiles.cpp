@@ -66,6 +66,9 @@ TileOutcome runTileStages(std::vector<PipelineStage>& stages, std::size_t first,
                           std::string& current) {
     const fs::path dir = ctx.outputDir() / "tiles" / tile->name();
     std::error_code ec;
+    // Files an earlier attempt at this tile left (a killed or changed run) would otherwise
+    // stay in its folder and its index entry. The run holds the folder's lock.
+    fs::remove_all(dir, ec);
     fs::create_directories(dir, ec);
     if (ec) throw IoError(dir.string() + ": cannot create the tile folder: " + ec.message());
     resetPeakMemoryWindow();

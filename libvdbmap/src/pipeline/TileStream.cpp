@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "pipeline/TileStream.h"
 
+#include "pipeline/RunJournal.h"
+
 #include <string>
 
 #include "vdbmap/core/Log.h"
@@ -36,6 +38,7 @@ std::vector<std::size_t> TileStream::begin(const Dataset& dataset, double update
                 std::to_string(setup_.processes - static_cast<int>(plan_->tiles.size())) +
                 " process(es) get no tile");
     }
+    if (setup_.processes > 1 && setup_.previous && setup_.redo_all_reason.empty()) balanceResume();
     for (const PlannedTile& t : plan_->tiles) {
         if (t.process == setup_.process) pending_.push_back(&t);
     }
@@ -49,6 +52,28 @@ std::vector<std::size_t> TileStream::begin(const Dataset& dataset, double update
                                         std::to_string(dataset.numFrames()) + " frames"
                                   : std::string()));
     return frames_;
+}
+
+void TileStream::balanceResume() {
+    // A tile the earlier run finished with the same scans will most likely be kept: its
+    // process still integrates its scans (its part of map.vdb) but runs no stage on it. Every
+    // process reads the same journal, so every process computes the same assignment.
+    constexpr double kKeptCostShare = 0.1;
+    std::vector<double> costs;
+    std::size_t likely_kept = 0;
+    for (const PlannedTile& t : plan_->tiles) {
+        const auto it = setup_.previous->tiles.find(std::to_string(t.ix) + "_" + std::to_string(t.iy));
+        const bool kept = it != setup_.previous->tiles.end() &&
+                          it->second.inputs.value("scan_frames", "") == scanFramesHash(t.scan_frames);
+        likely_kept += kept ? 1 : 0;
+        costs.push_back(kept ? t.cost * kKeptCostShare : t.cost);
+    }
+    const std::vector<int> parts = partitionContiguous(costs, setup_.processes);
+    for (std::size_t i = 0; i < parts.size(); ++i) plan_->tiles[i].process = parts[i];
+    if (setup_.process == 0) {
+        logInfo("tiling: " + std::to_string(likely_kept) + " of " + std::to_string(costs.size()) +
+                " planned tiles are in the journal; the others are balanced over the processes");
+    }
 }
 
 void TileStream::frameIntegrated(std::size_t frame) {
@@ -96,14 +121,50 @@ void TileStream::finish(const PlannedTile& planned, long after_frame) {
     if (ctx.hasDataset()) {
         TileGrid::assignViews(*tile, views_, setup_.tiling->max_view_distance_m);
     }
+    const nlohmann::json inputs =
+        setup_.journal || setup_.previous ? tileInputs(setup_.config_hash, *tile) : nlohmann::json();
+    if (setup_.previous && keep(*tile, inputs)) {
+        if (setup_.tile_seconds) *setup_.tile_seconds += timer.elapsedSeconds();
+        return;
+    }
     TileOutcome outcome = runTile(*setup_.stages, setup_.first, *setup_.output, ctx,
                                   std::shared_ptr<const Tile>(tile), after_frame, *setup_.current);
+    if (setup_.journal) {
+        setup_.journal->append(tileEntry(inputs, outcome, ctx.outputDir()));
+        testKillAfterTiles(setup_.journal->appended());
+    }
+    record(std::move(outcome));
+    if (setup_.tile_seconds) *setup_.tile_seconds += timer.elapsedSeconds();
+}
+
+void TileStream::record(TileOutcome outcome) {
     if (outcome.empty) {
         ++without_faces_;
     } else {
         outcomes_.push_back(std::move(outcome));
     }
-    if (setup_.tile_seconds) *setup_.tile_seconds += timer.elapsedSeconds();
+}
+
+bool TileStream::keep(const Tile& tile, const nlohmann::json& inputs) {
+    const std::string name = tile.name();
+    if (!setup_.redo_all_reason.empty()) {
+        decisions_.push_back({name, "redone", setup_.redo_all_reason});
+        return false;
+    }
+    const auto it = setup_.previous->tiles.find(name);
+    if (it == setup_.previous->tiles.end()) {
+        decisions_.push_back({name, "new", "not finished by the earlier run"});
+        return false;
+    }
+    const std::string why = whyRedo(it->second, inputs, setup_.ctx->outputDir());
+    if (!why.empty()) {
+        logInfo("tile " + name + ": " + why + ", redoing");
+        decisions_.push_back({name, "redone", why});
+        return false;
+    }
+    decisions_.push_back({name, "kept", ""});
+    record(it->second.outcome);
+    return true;
 }
 
 }  // namespace vdbmap::detail

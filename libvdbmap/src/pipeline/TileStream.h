@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "pipeline/PipelineImpl.h"
 #include "vdbmap/pipeline/Report.h"
 #include "pipeline/ScanStream.h"
@@ -19,6 +21,9 @@ class Context;
 }
 
 namespace vdbmap::detail {
+
+class RunJournal;
+struct JournalContents;
 
 /// What one finished tile leaves behind (JSON text, so that it can travel between processes).
 struct TileOutcome {
@@ -70,6 +75,20 @@ public:
         int process = 0, processes = 1;
         /// Time spent finishing tiles is added here (it runs inside the integrating stage).
         double* tile_seconds = nullptr;
+        /// Each finished tile is appended here (nullptr: no journal).
+        RunJournal* journal = nullptr;
+        std::string config_hash;  ///< JournalHeader::config_hash, part of each tile's inputs
+        /// A resumed run (--resume): the earlier run's journal; a tile whose entry still holds
+        /// is kept instead of run (nullptr: not resuming).
+        const JournalContents* previous = nullptr;
+        /// A resumed run that keeps no tile: why (the configuration or the version changed).
+        std::string redo_all_reason;
+    };
+    /// What a resumed run did with one tile.
+    struct ResumeDecision {
+        std::string name;
+        std::string action;  ///< "kept", "redone" (its entry did not hold), "new" (no entry)
+        std::string reason;
     };
     explicit TileStream(const Setup& setup) : setup_(setup) {}
 
@@ -93,9 +112,18 @@ public:
     /// Tiles finished without a core face / planned tiles that got no observed leaf.
     std::size_t tilesWithoutFaces() const { return without_faces_; }
     std::size_t tilesWithoutLeaves() const { return without_leaves_; }
+    /// A resumed run: each finished tile's decision, in finish order.
+    const std::vector<ResumeDecision>& resumeDecisions() const { return decisions_; }
 
 private:
     void finish(const PlannedTile& planned, long after_frame);
+    /// A distributed resume: the tiles given to the processes again, those the journal will
+    /// likely keep at a tenth of their cost, so that the tiles still to do are balanced.
+    void balanceResume();
+    /// A resumed run: keeps `tile` from the earlier run's journal if its entry holds
+    /// (returns true), else records why it is redone.
+    bool keep(const Tile& tile, const nlohmann::json& inputs);
+    void record(TileOutcome outcome);
     /// The grid from the tiling config and the map's voxel size (ConfigError for a bad config).
     void makeGrid();
 
@@ -108,6 +136,7 @@ private:
     std::vector<View> views_;
     std::vector<TileOutcome> outcomes_;
     std::size_t without_faces_ = 0, without_leaves_ = 0;
+    std::vector<ResumeDecision> decisions_;
 };
 
 }  // namespace vdbmap::detail

@@ -108,6 +108,14 @@ public:
     void run(const std::filesystem::path& output_dir, Report& report, bool quiet,
              ProcessGroup& group);
 
+    /// Makes the next run() of a tiled pipeline resume the run whose journal is in its output
+    /// folder (`vdbmap run --resume`, docs/tiling.md "Resume"): every tile whose journal entry
+    /// still matches its inputs (configuration, scans, views, bounds) and whose files still
+    /// match their sizes and checksums is kept, the others are redone; the final outputs are
+    /// those of an uninterrupted run. Without it, a run starts afresh (and says when the folder
+    /// holds an interrupted run's journal).
+    void setResume(bool resume);
+
     /// The pipeline's state (opaque: defined in src/pipeline/PipelineImpl.h for the phases of
     /// fromString and run).
     struct Impl;
