@@ -227,6 +227,30 @@ TEST_CASE("a run killed after its 1st, 3rd or last tile resumes to an uninterrup
     }
 }
 
+TEST_CASE("a run killed while it writes map.vdb resumes with every tile kept", "[resume][tiles]") {
+    const fs::path ref = reference();
+    const std::size_t total = journaledTiles(ref);
+    const fs::path dir = freshDir("killed_in_map_vdb");
+    ChildOptions kill;
+    kill.env = {{"VDBMAP_TEST_KILL_IN_MAP_VDB", "1"}};
+    const Run killed = run(dir, {}, kill);
+    INFO(killed.log);
+    REQUIRE(killed.code == -SIGKILL);
+    // Every tile was finished and journaled; map.vdb (atomic) and tiles.json were not written.
+    CHECK(journaledTiles(dir) == total);
+    CHECK_FALSE(fs::exists(dir / "map.vdb"));
+    CHECK_FALSE(fs::exists(dir / "tiles.json"));
+
+    const Run resumed = run(dir, {"--resume"});
+    INFO(resumed.log);
+    REQUIRE(resumed.code == 0);
+    requireSameOutputs(dir);
+    const nlohmann::json resume = resumeSection(dir);
+    CHECK(resume["kept"] == total);
+    CHECK(resume["redone"] == 0);
+    CHECK(resume["new"] == 0);
+}
+
 TEST_CASE("a corrupted and a deleted tile file: exactly those two tiles are redone",
           "[resume][tiles]") {
     const fs::path ref = reference();

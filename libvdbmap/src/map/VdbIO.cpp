@@ -4,7 +4,9 @@
 #include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
 
+#include <csignal>
 #include <cstdint>
+#include <cstdlib>
 #include <fstream>
 #include <functional>
 
@@ -79,13 +81,26 @@ openvdb::MetaMap mapVdbMetadata(const VoxelMap& map) {
     return meta;
 }
 
+namespace {
+/// Test hook (docs/tiling.md, "Resume"): with VDBMAP_TEST_KILL_IN_MAP_VDB=1 the process raises
+/// SIGKILL while it makes the second grid, the first already in the temporary file: a run
+/// killed during the map.vdb write, deterministically, for the resume tests.
+void testKillInMapVdb(int grid) {
+    static const bool kill = std::getenv("VDBMAP_TEST_KILL_IN_MAP_VDB") != nullptr;
+    if (kill && grid == 1) ::raise(SIGKILL);
+}
+}  // namespace
+
 void writeVdbGridsOneByOne(const std::filesystem::path& path, int count,
                            const std::function<openvdb::GridBase::Ptr(int)>& make,
                            const openvdb::MetaMap& meta) {
     AtomicFile out(path);
     std::ofstream stream = detail::openOutput(out.tempPath(), path);
     try {
-        CheckedVdbWriter().writeOneByOne(stream, count, make, meta);
+        CheckedVdbWriter().writeOneByOne(stream, count, [&](int i) {
+            testKillInMapVdb(i);
+            return make(i);
+        }, meta);
     } catch (const openvdb::Exception& e) {
         throw IoError("writeMapVdb: cannot write '" + path.string() + "': " + e.what());
     }
