@@ -90,7 +90,7 @@ nlohmann::json evalTraffic(const fs::path& gt_dir, const fs::path& run_dir,
     }
     const vdbmap::MovingTruth truth = vdbmap::readMovingTruth(labels_dir, movers.times_s.size());
     const vdbmap::MovingPointScores s =
-        vdbmap::scoreRemovedPoints(truth, vdbmap::readDynamicPointsPly(dyn_path));
+        vdbmap::scoreRemovedPoints(truth, vdbmap::readRemovedPointsPly(dyn_path));
     j["moving_points"] = movingPointsJson(s, dyn_path, labels_dir);
     table << "  moving points: " << s.moving_points << " moving, " << s.static_points
           << " static; removed " << s.removed << ": recall " << s.recall << "  precision "

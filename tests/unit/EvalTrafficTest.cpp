@@ -154,7 +154,7 @@ TEST_CASE("Moving points: recall and precision of a hand-made dynamic_points.ply
         append(ply, index);
     }
     writeBytes(dir / "dynamic_points.ply", ply);
-    const auto points = readDynamicPointsPly(dir / "dynamic_points.ply");
+    const auto points = readRemovedPointsPly(dir / "dynamic_points.ply");
     REQUIRE(points.size() == 6);
     CHECK(points[3].frame == 1);
     CHECK(points[2].index == 7);
@@ -173,13 +173,13 @@ TEST_CASE("Moving points: recall and precision of a hand-made dynamic_points.ply
 
     // Bad files name themselves.
     writeBytes(dir / "ascii.ply", "ply\nformat ascii 1.0\nelement vertex 0\nend_header\n");
-    CHECK_THROWS_AS(readDynamicPointsPly(dir / "ascii.ply"), IoError);
+    CHECK_THROWS_AS(readRemovedPointsPly(dir / "ascii.ply"), IoError);
     writeBytes(dir / "noindex.ply",
                "ply\nformat binary_little_endian 1.0\nelement vertex 0\nproperty float x\n"
                "property float y\nproperty float z\nproperty uint frame\nend_header\n");
-    CHECK_THROWS_WITH(readDynamicPointsPly(dir / "noindex.ply"), Catch::Contains("index"));
+    CHECK_THROWS_WITH(readRemovedPointsPly(dir / "noindex.ply"), Catch::Contains("index"));
     writeBytes(dir / "short.ply", ply.substr(0, ply.size() - 3));
-    CHECK_THROWS_WITH(readDynamicPointsPly(dir / "short.ply"), Catch::Contains("truncated"));
+    CHECK_THROWS_WITH(readRemovedPointsPly(dir / "short.ply"), Catch::Contains("truncated"));
     CHECK_THROWS_AS(readMovingTruth(dir / "labels", 3), IoError);  // no 000002.label
     fs::remove_all(dir);
 }

@@ -58,7 +58,7 @@ std::string labelFileStem(std::size_t f) {
 
 }  // namespace
 
-std::vector<RemovedPoint> readDynamicPointsPly(const fs::path& path) {
+std::vector<RemovedPoint> readRemovedPointsPly(const fs::path& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) throw IoError(path.string() + ": cannot open");
     const auto fail = [&](const std::string& what) { return IoError(path.string() + ": " + what); };

@@ -57,7 +57,7 @@ struct RemovedPoint {
 /// Reads `dynamic_points.ply` (binary little-endian PLY; vertex properties x y z float,
 /// frame uint, index uint, in any order, other properties skipped). Throws IoError naming the
 /// file for a missing file, another format or a missing property, or a truncated body.
-std::vector<RemovedPoint> readDynamicPointsPly(const std::filesystem::path& path);
+std::vector<RemovedPoint> readRemovedPointsPly(const std::filesystem::path& path);
 
 /// Per frame, per point: 1 if the ground-truth label marks a moving point (instance id != 0,
 /// as vdbmap-sim --traffic writes it, or a SemanticKITTI moving class 252..259).
