@@ -24,10 +24,13 @@ namespace {
 
 const test::DynamicSceneOptions kScene{};
 
-fs::path sceneRoot() {
-    static const fs::path root = [] {
+/// The scene in its own folder per test case: ctest runs the test cases as parallel processes,
+/// and a shared folder was removed by one while the other read it.
+fs::path sceneRoot(const std::string& test) {
+    static const fs::path root = [&] {
         setLogLevel(LogLevel::Warn);
-        const fs::path r = fs::path(VDBMAP_BINARY_DIR) / "test_scratch" / "dynamic_pipeline";
+        const fs::path r =
+            fs::path(VDBMAP_BINARY_DIR) / "test_scratch" / ("dynamic_pipeline_" + test);
         fs::remove_all(r);
         std::vector<test::DynamicScan> scans;
         for (int f = 0; f < kScene.frames; ++f) scans.push_back(test::dynamicScan(kScene, f));
@@ -79,7 +82,7 @@ nlohmann::json removalReport(const fs::path& out) {
 
 TEST_CASE("Each truncation mode: the mover leaves no surface, the same points are removed",
           "[dynamic][pipeline]") {
-    const fs::path root = sceneRoot();
+    const fs::path root = sceneRoot("modes");
     Report off_report;
     Pipeline::fromString(yaml("adaptive", false), "off", root)->run(root / "off", off_report, true);
     const std::size_t ghosts_off = ghostVertices(readMeshPly(root / "off" / "mesh.ply"));
@@ -121,7 +124,7 @@ TEST_CASE("Each truncation mode: the mover leaves no surface, the same points ar
 }
 
 TEST_CASE("A tiled run removes exactly the points of the untiled run", "[dynamic][pipeline][tiles]") {
-    const fs::path root = sceneRoot();
+    const fs::path root = sceneRoot("tiled");
     Report untiled, tiled;
     Pipeline::fromString(yaml("adaptive", true), "untiled", root)->run(root / "untiled", untiled, true);
     Pipeline::fromString(yaml("adaptive", true, "tiling: {tile_size_m: 12.8, halo_m: 2}\n"), "tiled", root)
