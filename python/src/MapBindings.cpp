@@ -122,9 +122,9 @@ public:
         }
         detail::bindEntries(spec, entries, "vdbmap.Map", "keyword arguments");
         stage->initialize();
+        py::object loads = py::module_::import("json").attr("loads");
         for (const OptionInfo& info : spec.options())
-            options_[py::str(info.key)] =
-                py::module_::import("json").attr("loads")(formatOptionValue(spec.value(info.key)));
+            options_[py::str(info.key)] = loads(formatOptionValue(spec.value(info.key)));
         settings_ = detail::atsdfStageSettings(*stage);
         map_ = makeVoxelMap(settings_.config, settings_.voxel_size_m);  // as the stage makes it
         integrator_ = std::make_unique<AtsdfIntegrator>(*map_, settings_.config);

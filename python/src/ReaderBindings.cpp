@@ -8,25 +8,13 @@
 #include <vector>
 
 #include "Bindings.h"
+#include "io/FileUtil.h"
 #include "io/PlyFormat.h"
 #include "vdbmap/Error.h"
 #include "vdbmap/io/MeshIO.h"
 
 namespace vdbmap::python {
 namespace {
-
-std::string readWholeFile(const std::string& path) {
-    std::FILE* f = std::fopen(path.c_str(), "rb");
-    if (f == nullptr) throw IoError(path + ": cannot open (" + std::strerror(errno) + ")");
-    std::string bytes;
-    char buffer[1 << 16];
-    std::size_t n = 0;
-    while ((n = std::fread(buffer, 1, sizeof buffer, f)) > 0) bytes.append(buffer, n);
-    const bool failed = std::ferror(f) != 0;
-    std::fclose(f);
-    if (failed) throw IoError(path + ": read error");
-    return bytes;
-}
 
 template <typename T>
 py::array_t<T> toArray(const std::vector<T>& values, std::size_t rows, std::size_t cols) {
@@ -46,7 +34,7 @@ struct Columns {
 /// read_ply(path): {"vertices": (n,3) float32, "faces": (m,3) int64, "vertex": {name: (n,)},
 /// "face": {name: (m,)}}. Faces must be triangles (vdbmap writes only triangles).
 py::dict readPly(const std::string& path) {
-    const std::string bytes = readWholeFile(path);
+    const std::string bytes = detail::readWholeFile(path);
     const detail::PlyHeader header = detail::parsePlyHeader(bytes, path);
     detail::PlyDataReader reader(bytes, header, path);
     std::vector<float> xyz;

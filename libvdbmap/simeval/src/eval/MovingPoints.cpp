@@ -7,6 +7,8 @@
 #include <set>
 #include <sstream>
 
+#include "io/FileUtil.h"
+#include "io/PlyFormat.h"
 #include "vdbmap/Error.h"
 #include "vdbmap/eval/TrafficMetrics.h"
 #include "vdbmap/io/LidarLabels.h"
@@ -17,39 +19,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct PlyProperty {
-    std::string name;
-    std::string type;
-    std::size_t offset = 0;
-};
-
-std::size_t typeSize(const std::string& type) {
-    static const std::map<std::string, std::size_t> sizes{
-        {"char", 1},  {"uchar", 1},   {"int8", 1},   {"uint8", 1},  {"short", 2}, {"ushort", 2},
-        {"int16", 2}, {"uint16", 2},  {"int", 4},    {"uint", 4},   {"int32", 4}, {"uint32", 4},
-        {"float", 4}, {"float32", 4}, {"double", 8}, {"float64", 8}};
-    const auto it = sizes.find(type);
-    return it == sizes.end() ? 0 : it->second;
-}
-
-// One value of a property as a double (little-endian host, as the format requires).
-double valueAt(const char* record, const PlyProperty& p) {
-    const char* s = record + p.offset;
-    const std::string& t = p.type;
-    const auto get = [s](auto v) {
-        std::memcpy(&v, s, sizeof(v));
-        return static_cast<double>(v);
-    };
-    if (t == "char" || t == "int8") return get(std::int8_t{});
-    if (t == "uchar" || t == "uint8") return get(std::uint8_t{});
-    if (t == "short" || t == "int16") return get(std::int16_t{});
-    if (t == "ushort" || t == "uint16") return get(std::uint16_t{});
-    if (t == "int" || t == "int32") return get(std::int32_t{});
-    if (t == "uint" || t == "uint32") return get(std::uint32_t{});
-    if (t == "float" || t == "float32") return get(float{});
-    return get(double{});
-}
-
 std::string labelFileStem(std::size_t f) {
     std::ostringstream s;
     s << std::setw(6) << std::setfill('0') << f;
@@ -59,66 +28,40 @@ std::string labelFileStem(std::size_t f) {
 }  // namespace
 
 std::vector<RemovedPoint> readRemovedPointsPly(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw IoError(path.string() + ": cannot open");
-    const auto fail = [&](const std::string& what) { return IoError(path.string() + ": " + what); };
-    std::string line;
-    if (!std::getline(in, line) || line != "ply") throw fail("not a PLY file");
-    std::size_t count = 0, record_size = 0;
-    std::vector<PlyProperty> props;
-    bool in_vertex = false, seen_vertex = false;
-    while (std::getline(in, line)) {
-        if (!line.empty() && line.back() == '\r') line.pop_back();
-        std::istringstream ss(line);
-        std::string word;
-        ss >> word;
-        if (word == "end_header") break;
-        if (word == "format") {
-            std::string format;
-            ss >> format;
-            if (format != "binary_little_endian") {
-                throw fail("format '" + format + "', expected binary_little_endian");
+    // The project's PLY reader (io/PlyFormat.h): any format, properties in any order, other
+    // properties and elements skipped; truncated or malformed data is an IoError naming the file.
+    const std::string bytes = detail::readWholeFile(path);
+    const detail::PlyHeader header = detail::parsePlyHeader(bytes, path);
+    if (header.find("vertex") < 0) throw IoError(path.string() + ": no vertex element");
+    detail::PlyDataReader reader(bytes, header, path);
+    std::vector<RemovedPoint> out;
+    std::vector<double> scalars;
+    std::vector<std::vector<double>> lists;
+    for (const detail::PlyElement& element : header.elements) {
+        const bool vertex = element.name == "vertex";
+        // Slot of a scalar property in PlyDataReader's `scalars` (lists are not counted).
+        const auto slot = [&](const char* name) {
+            int k = 0;
+            for (const detail::PlyProperty& p : element.properties) {
+                if (p.is_list) continue;
+                if (p.name == name) return k;
+                ++k;
             }
-        } else if (word == "element") {
-            std::string name;
-            ss >> name;
-            if (seen_vertex) {
-                in_vertex = false;  // elements after the vertices are not read
-                continue;
-            }
-            if (name != "vertex") throw fail("element '" + name + "' before the vertices");
-            ss >> count;
-            in_vertex = seen_vertex = true;
-        } else if (word == "property" && in_vertex) {
-            PlyProperty p;
-            ss >> p.type >> p.name;
-            const std::size_t size = typeSize(p.type);
-            if (size == 0) throw fail("vertex property '" + p.name + "' of type '" + p.type + "'");
-            p.offset = record_size;
-            record_size += size;
-            props.push_back(p);
+            throw IoError(path.string() + ": no vertex property '" + name + "'");
+        };
+        int frame = -1, index = -1;
+        if (vertex) {
+            frame = slot("frame");
+            index = slot("index");
+            for (const char* xyz : {"x", "y", "z"}) slot(xyz);
+            out.resize(element.count);
         }
-    }
-    if (!seen_vertex) throw fail("no vertex element");
-    const auto find = [&](const char* name) {
-        for (const auto& p : props) {
-            if (p.name == name) return p;
+        for (std::size_t i = 0; i < element.count; ++i) {
+            reader.read(element, scalars, lists);
+            if (!vertex) continue;
+            out[i].frame = static_cast<std::uint32_t>(scalars[static_cast<std::size_t>(frame)]);
+            out[i].index = static_cast<std::uint32_t>(scalars[static_cast<std::size_t>(index)]);
         }
-        throw fail(std::string("no vertex property '") + name + "'");
-    };
-    const PlyProperty frame = find("frame"), index = find("index");
-    for (const char* xyz : {"x", "y", "z"}) find(xyz);
-    std::vector<char> body(count * record_size);
-    in.read(body.data(), static_cast<std::streamsize>(body.size()));
-    if (static_cast<std::size_t>(in.gcount()) != body.size()) {
-        throw fail("truncated: " + std::to_string(count) + " vertices of " +
-                   std::to_string(record_size) + " bytes announced");
-    }
-    std::vector<RemovedPoint> out(count);
-    for (std::size_t i = 0; i < count; ++i) {
-        const char* r = body.data() + i * record_size;
-        out[i].frame = static_cast<std::uint32_t>(valueAt(r, frame));
-        out[i].index = static_cast<std::uint32_t>(valueAt(r, index));
     }
     return out;
 }
