@@ -11,6 +11,7 @@
 #include <random>
 #include <set>
 
+#include "pipeline/PointRegion.h"
 #include "support/CliRun.h"
 #include "vdbmap/Error.h"
 #include "vdbmap/core/Log.h"
@@ -184,4 +185,44 @@ TEST_CASE("planTiles: tiles and scan frames are those a scan's reach gives", "[t
     }
     options.scan_reach_m = -1.0;
     CHECK_THROWS_AS(planTiles(grid, *dataset, options), InvalidInput);
+}
+
+TEST_CASE("PointRegion: a process keeps the points within reach of its tiles' regions", "[tiles]") {
+    // 64 m tiles at 0.1 m, occluder margin 30 m: a tile needs its core grown by 30.1 m (the
+    // occluder voxels and one); the region adds the update reach (5 m) and one leaf (0.8 m).
+    TilingConfig config;
+    config.tile_size_m = 64.0;
+    config.halo_m = 4.0;
+    config.occluder_margin_m = 30.0;
+    const TileGrid grid(config, 0.1, 2);
+    TilePlan plan;
+    for (int ix = 0; ix < 4; ++ix) {
+        PlannedTile t;
+        t.ix = ix;
+        t.process = ix < 2 ? 0 : 1;  // process 0: x in [0, 128), process 1: x in [128, 256)
+        plan.tiles.push_back(t);
+    }
+    const double grow = 30.1 + 5.0 + 0.8;
+    const detail::PointRegion p0(grid, plan, 0, 5.0), p1(grid, plan, 1, 5.0);
+    CHECK(p0.rectangles() == 2);
+    CHECK(p1.rectangles() == 2);
+    const auto at = [](double x, double y) { return Vec3f(float(x), float(y), 123.f); };
+    CHECK(p0.contains(at(10, 10)));
+    CHECK_FALSE(p1.contains(at(10, 10)));
+    // Either side of each rectangle's edge, on both ground axes; the up coordinate is free.
+    CHECK(p0.contains(at(128 + grow - 0.01, 32)));
+    CHECK_FALSE(p0.contains(at(128 + grow + 0.01, 32)));
+    CHECK(p0.contains(at(-grow + 0.01, 32)));
+    CHECK_FALSE(p0.contains(at(-grow - 0.01, 32)));
+    CHECK(p0.contains(at(32, 64 + grow - 0.01)));
+    CHECK_FALSE(p0.contains(at(32, 64 + grow + 0.01)));
+    CHECK(p1.contains(at(128 - grow + 0.01, -grow + 0.01)));
+    CHECK_FALSE(p1.contains(at(128 - grow - 0.01, 0)));
+    // Both processes keep the points between their tiles that both need.
+    CHECK(p0.contains(at(128, 0)));
+    CHECK(p1.contains(at(128, 0)));
+    // A process without tiles keeps nothing.
+    const detail::PointRegion p2(grid, plan, 2, 5.0);
+    CHECK(p2.rectangles() == 0);
+    CHECK_FALSE(p2.contains(at(10, 10)));
 }

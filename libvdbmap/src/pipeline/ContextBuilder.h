@@ -31,6 +31,8 @@ public:
     static void setScanStream(Context& ctx, std::shared_ptr<ScanStream> stream) {
         ctx.stream_ = std::move(stream);
     }
+    /// The pipeline's side of streaming, or nullptr (untiled runs).
+    static const ScanStream* scanStream(const Context& ctx) { return ctx.stream_.get(); }
     /// A context for one tile of a tiled run: the same dataset, map and flags, the tile's
     /// folder and report, no mesh yet.
     static std::unique_ptr<Context> tileContext(const Context& ctx, std::filesystem::path tile_dir,

@@ -475,6 +475,12 @@ private:
         s["tiles"] = stream_ ? stream_->outcomes().size() : 0;
         s["frames_integrated"] = stream_ && stream_->begun() ? stream_->frames().size() : 0;
         s["tiles_s"] = tile_seconds_;
+        // What this process integrated (issue 37: the points a rank's tiles need; null
+        // without an integrate.atsdf stage).
+        for (const char* key : {"points_integrated", "dropped_outside_process_tiles", "seconds"}) {
+            s[std::string("integrate_") + key] =
+                nlohmann::json::parse(report_.getJson({"stages", "integrate.atsdf", key}));
+        }
         s["cpu_time_s"] = processCpuTimeS();
         s["wall_time_s"] = total_.elapsedSeconds();
         s["peak_memory_bytes"] = peakMemoryBytes();

@@ -7,6 +7,9 @@
 namespace vdbmap {
 
 class Dataset;
+namespace detail {
+class PointRegion;
+}
 
 /// The pipeline's side of scan streaming (Context::beginScanStream / scanIntegrated): the
 /// tiled pipeline plans its tiles when the integrating stage begins and finishes them as the
@@ -23,6 +26,9 @@ public:
     /// This process and the number of processes of a distributed run (0 and 1 otherwise).
     virtual int process() const { return 0; }
     virtual int processes() const { return 1; }
+    /// A process of a distributed run: the ground its points must fall in to change its tiles
+    /// (after begin(); nullptr: every point matters).
+    virtual const detail::PointRegion* pointRegion() const { return nullptr; }
 };
 
 }  // namespace vdbmap

@@ -43,6 +43,9 @@ std::vector<std::size_t> TileStream::begin(const Dataset& dataset, double update
         if (t.process == setup_.process) pending_.push_back(&t);
     }
     frames_ = plan_->framesOf(setup_.process);
+    // A process of a distributed run integrates only the points that can reach its tiles
+    // (issue 37): the others would cost it integration time for leaves it does not own.
+    if (setup_.processes > 1) region_.emplace(*grid_, *plan_, setup_.process, update_reach_m);
     views_ = datasetViews(dataset, false, false);
     logInfo("tiling: " + std::to_string(plan_->tiles.size()) + " tiles within reach of a scan (" +
             std::to_string(options.scan_reach_m) + " m)" +

@@ -11,6 +11,7 @@
 
 #include "pipeline/PipelineImpl.h"
 #include "vdbmap/pipeline/Report.h"
+#include "pipeline/PointRegion.h"
 #include "pipeline/ScanStream.h"
 #include "vdbmap/pipeline/TilePlan.h"
 #include "vdbmap/pipeline/Tiling.h"
@@ -98,6 +99,7 @@ public:
     const std::vector<std::size_t>& frames() const override { return frames_; }
     int process() const override { return setup_.process; }
     int processes() const override { return setup_.processes; }
+    const PointRegion* pointRegion() const override { return region_ ? &*region_ : nullptr; }
 
     /// Finishes every tile not finished yet. Without begin() (no stage integrated scans
     /// through the stream) the tiles are those of the map's leaves, spread over the processes.
@@ -133,6 +135,7 @@ private:
     std::vector<const PlannedTile*> pending_;  ///< this process's tiles, finish order
     std::size_t next_ = 0;
     std::vector<std::size_t> frames_;
+    std::optional<PointRegion> region_;  ///< distributed runs: the points that matter here
     std::vector<View> views_;
     std::vector<TileOutcome> outcomes_;
     std::size_t without_faces_ = 0, without_leaves_ = 0;

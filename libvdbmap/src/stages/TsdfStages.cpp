@@ -11,6 +11,8 @@
 #include <utility>
 
 #include "pipeline/ContextBuilder.h"
+#include "pipeline/PointRegion.h"
+#include "pipeline/ScanStream.h"
 #include "vdbmap/core/Log.h"
 #include "vdbmap/core/Progress.h"
 #include "vdbmap/core/Timer.h"
@@ -29,6 +31,33 @@
 
 namespace vdbmap::detail {
 namespace {
+
+/// `first` (may be empty), then, in a process of a distributed run, the points outside the
+/// ground its tiles need dropped (issue 37; none with space carving, whose rays change voxels
+/// all the way from the sensor). `dropped` counts them; it is read once the scans are done.
+ScanFilter withPointRegion(ScanFilter first, const Dataset& dataset, const PointRegion* region,
+                           std::size_t& dropped) {
+    if (!region) return first;
+    return [first = std::move(first), &dataset, region, &dropped](
+               std::size_t frame, PointCloud& cloud, const std::vector<std::uint32_t>& index,
+               std::size_t points_in_file) {
+        if (first) first(frame, cloud, index, points_in_file);
+        const Isometry3d& T_W_L = dataset.frame(frame).T_W_L;
+        const Eigen::Matrix3f R = T_W_L.linear().cast<float>();
+        const Vec3f t = T_W_L.translation().cast<float>();
+        const bool has_intensity = cloud.intensity.size() == cloud.points.size();
+        std::size_t kept = 0;
+        for (std::size_t i = 0; i < cloud.points.size(); ++i) {
+            if (!region->contains(R * cloud.points[i] + t)) continue;
+            cloud.points[kept] = cloud.points[i];
+            if (has_intensity) cloud.intensity[kept] = cloud.intensity[i];
+            ++kept;
+        }
+        dropped += cloud.points.size() - kept;
+        cloud.points.resize(kept);
+        if (has_intensity) cloud.intensity.resize(kept);
+    };
+}
 
 /// integrate.atsdf: adaptive TSDF integration of every scan of the dataset (paper Sec. 4).
 class IntegrateAtsdfStage : public Stage {
@@ -179,6 +208,10 @@ public:
         // Moving objects out of the map (issue 33): each scan's dynamic points are dropped
         // before it is integrated, in the read-ahead task (docs/dynamic.md).
         DynamicRemovalStep dynamic(ctx, dynamic_);
+        const ScanStream* stream = ContextBuilder::scanStream(ctx);
+        const PointRegion* region =
+            stream && !config_.space_carving ? stream->pointRegion() : nullptr;
+        std::size_t outside_region = 0;
         DatasetIntegration run;
         {
             // Scan i + 1 is read while scan i is integrated (integrateDataset).
@@ -189,7 +222,7 @@ public:
                     progress.tick();
                     ctx.scanIntegrated(frame);
                 },
-                dynamic.filter());
+                withPointRegion(dynamic.filter(), dataset, region, outside_region));
         }
         dynamic.finish(ctx, std::string(name()));
         const ScanReadStats& read_total = run.read;
@@ -207,6 +240,8 @@ public:
                 t.points_integrated ? static_cast<double>(t.voxel_updates) / static_cast<double>(t.points_integrated) : 0.0);
         r.stage(s, "points_read", read_total.points_read);
         r.stage(s, "points_integrated", t.points_integrated);
+        // Distributed runs: points no tile of this process needs (PointRegion), not integrated.
+        r.stage(s, "dropped_outside_process_tiles", outside_region);
         r.stage(s, "dropped_non_finite", read_total.dropped_non_finite + t.dropped_non_finite);
         r.stage(s, "dropped_range", read_total.dropped_range + t.dropped_range);
         r.stage(s, "dropped_at_origin", t.dropped_at_origin);
