@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 # SPDX-License-Identifier: Apache-2.0
 """Open3D (python3-open3d) reads a leaf GLB of export.3dtiles (written with `compression: none`:
 Open3D's glTF reader does not decode EXT_meshopt_compression) and finds the faces of its
