@@ -64,9 +64,16 @@ TriangleGrid::TriangleGrid(std::vector<Triangle> triangles) : triangles_(std::mo
         edge_sum += (t[1] - t[0]).norm();
     }
     const double mean_edge = edge_sum / static_cast<double>(triangles_.size());
-    // About two triangles' edge per cell, but at most ~4 M cells.
+    lo_.resize(triangles_.size());
+    hi_.resize(triangles_.size());
+    for (std::size_t i = 0; i < triangles_.size(); ++i) {
+        const Triangle& t = triangles_[i];
+        lo_[i] = t[0].cwiseMin(t[1]).cwiseMin(t[2]);
+        hi_[i] = t[0].cwiseMax(t[1]).cwiseMax(t[2]);
+    }
+    // About one triangle edge per cell, but at most ~4 M cells.
     const Eigen::Vector3d extent = (hi - lo).cwiseMax(1e-6);
-    cell_ = std::max(2.0 * mean_edge, 1e-3);
+    cell_ = std::max(mean_edge, 1e-3);
     while ((extent / cell_).array().ceil().prod() > 4e6) cell_ *= 1.5;
     origin_ = lo;
     dims_ = ((extent / cell_).array().floor().cast<int>() + 1).matrix();
@@ -121,7 +128,11 @@ double TriangleGrid::distance(const Eigen::Vector3d& p) const {
                     if (std::max({std::abs(x - c.x()), std::abs(y - c.y()), std::abs(z - c.z())}) != r) continue;
                     const auto k = static_cast<std::size_t>(key(x, y, z));
                     for (std::uint32_t i = start_[k]; i < start_[k + 1]; ++i) {
-                        best = std::min(best, pointTriangleDistance(p, triangles_[items_[i]]));
+                        const std::uint32_t t = items_[i];
+                        // The triangle's box first: most are farther than the best so far.
+                        const double box = (lo_[t] - p).cwiseMax(p - hi_[t]).cwiseMax(0.0).squaredNorm();
+                        if (box >= best * best) continue;
+                        best = std::min(best, pointTriangleDistance(p, triangles_[t]));
                     }
                 }
             }
@@ -132,66 +143,61 @@ double TriangleGrid::distance(const Eigen::Vector3d& p) const {
 
 double hausdorffBound(const std::vector<Triangle>& a, const TriangleGrid& b, double tolerance_m,
                       std::size_t* samples) {
-    // Phase 1: the largest corner distance, a lower bound of the maximum (parallel; max is
-    // order-free). Phase 2: each triangle on its own against that fixed lower bound, so that the
-    // result does not depend on the order or the threads.
+    // Breadth first, in rounds: the triangles of a round are tested against the largest
+    // distance found before it (a lower bound of the maximum); those whose bound exceeds it by
+    // more than the tolerance are split in four, their new midpoints evaluated in parallel.
+    // Every decision depends only on the round's inputs: the result does not depend on the
+    // threads.
+    struct Item {
+        Triangle t;
+        std::array<double, 3> d;
+        int depth;
+    };
     auto radius = [](const Triangle& t) {
         return std::max({(t[1] - t[0]).norm(), (t[2] - t[1]).norm(), (t[0] - t[2]).norm()}) /
                std::sqrt(3.0);
     };
-    std::vector<std::array<double, 3>> corner(a.size());
+    std::vector<Item> active(a.size());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, a.size(), 256), [&](const auto& r) {
         for (std::size_t i = r.begin(); i != r.end(); ++i) {
-            for (std::size_t k = 0; k < 3; ++k) corner[i][k] = b.distance(a[i][k]);
+            active[i] = {a[i], {b.distance(a[i][0]), b.distance(a[i][1]), b.distance(a[i][2])}, 0};
         }
     });
-    double lower = 0.0;
-    for (const auto& d : corner) lower = std::max({lower, d[0], d[1], d[2]});
-    const double threshold = lower + tolerance_m;
-    std::vector<double> upper(a.size(), 0.0);
-    std::vector<std::size_t> queries(a.size(), 3);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, a.size(), 64), [&](const auto& r) {
-        struct Item {
-            Triangle t;
-            std::array<double, 3> d;
-            int depth;
-        };
-        std::vector<Item> stack;
-        for (std::size_t i = r.begin(); i != r.end(); ++i) {
-            stack.clear();
-            stack.push_back({a[i], corner[i], 0});
-            double up = 0.0;
-            while (!stack.empty()) {
-                const Item item = stack.back();
-                stack.pop_back();
-                const double dmax = std::max({item.d[0], item.d[1], item.d[2]});
-                const double bound = dmax + radius(item.t);
-                if (bound <= threshold || item.depth >= 20) {
-                    up = std::max(up, bound);
-                    continue;
-                }
+    std::size_t queries = 3 * a.size();
+    double lower = 0.0, upper = 0.0;
+    for (const Item& item : active) lower = std::max({lower, item.d[0], item.d[1], item.d[2]});
+    std::vector<Item> split;
+    while (!active.empty()) {
+        split.clear();
+        for (const Item& item : active) {
+            const double bound = std::max({item.d[0], item.d[1], item.d[2]}) + radius(item.t);
+            if (bound <= lower + tolerance_m || item.depth >= 20) {
+                upper = std::max(upper, bound);
+            } else {
+                split.push_back(item);
+            }
+        }
+        std::vector<Item> next(4 * split.size());
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, split.size(), 64), [&](const auto& r) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                const Item& item = split[i];
                 const Eigen::Vector3d m01 = 0.5 * (item.t[0] + item.t[1]);
                 const Eigen::Vector3d m12 = 0.5 * (item.t[1] + item.t[2]);
                 const Eigen::Vector3d m20 = 0.5 * (item.t[2] + item.t[0]);
                 const double d01 = b.distance(m01), d12 = b.distance(m12), d20 = b.distance(m20);
-                queries[i] += 3;
                 const int depth = item.depth + 1;
-                stack.push_back({{item.t[0], m01, m20}, {item.d[0], d01, d20}, depth});
-                stack.push_back({{m01, item.t[1], m12}, {d01, item.d[1], d12}, depth});
-                stack.push_back({{m20, m12, item.t[2]}, {d20, d12, item.d[2]}, depth});
-                stack.push_back({{m01, m12, m20}, {d01, d12, d20}, depth});
+                next[4 * i] = {{item.t[0], m01, m20}, {item.d[0], d01, d20}, depth};
+                next[4 * i + 1] = {{m01, item.t[1], m12}, {d01, item.d[1], d12}, depth};
+                next[4 * i + 2] = {{m20, m12, item.t[2]}, {d20, d12, item.d[2]}, depth};
+                next[4 * i + 3] = {{m01, m12, m20}, {d01, d12, d20}, depth};
             }
-            upper[i] = up;
-        }
-    });
-    double result = lower;
-    std::size_t total = 0;
-    for (std::size_t i = 0; i < a.size(); ++i) {
-        result = std::max(result, upper[i]);
-        total += queries[i];
+        });
+        queries += 3 * split.size();
+        for (const Item& item : next) lower = std::max({lower, item.d[0], item.d[1], item.d[2]});
+        active.swap(next);
     }
-    if (samples) *samples = total;
-    return result;
+    if (samples) *samples = queries;
+    return std::max(upper, lower);
 }
 
 }  // namespace vdbmap::tiles3d

@@ -369,7 +369,8 @@ void Tiles3dStage::finishRun(Context& ctx, const std::vector<FinishedTile>& tile
                 meshes.clear();
                 const TriangleGrid grid(std::move(reference));
                 std::size_t queries = 0;
-                const double d = hausdorffBound(trianglesW(parent), grid, 0.5 * voxel_size_m, &queries);
+                const double d = hausdorffBound(trianglesW(parent), grid,
+                                                std::max(0.5 * voxel_size_m, 0.25 * child_error), &queries);
                 distance_queries += queries;
                 measure_s += step.elapsedSeconds();
                 step.reset();
