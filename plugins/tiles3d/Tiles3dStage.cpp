@@ -135,7 +135,7 @@ void Tiles3dStage::declareOptions(OptionSpec& spec) {
     spec.add("georef_longitude_deg", "Longitude of W's origin (WGS84), [-180, 180]", longitude_deg_, 0.0, "deg");
     spec.add("georef_altitude_m", "Ellipsoidal height of W's origin, [-11000, 100000]", altitude_m_, 0.0, "m");
     spec.add("georef_heading_deg",
-             "Compass heading of W's +y axis, clockwise from north, [-360, 360] (0: x east, y north)",
+             "Compass heading of the z-up frame's +y axis (W's +y for a z-up W), clockwise from north, [-360, 360] (0: x east, y north)",
              heading_deg_, 0.0, "deg");
     spec.add("drive_path", "Also write 3dtiles/drive_path.json (the LiDAR positions in W)",
              drive_path_, true);
