@@ -17,7 +17,7 @@ namespace {
 
 using json = nlohmann::json;
 
-constexpr int kFloat = 5126, kUnsignedByte = 5121;
+constexpr int kFloat = 5126;
 constexpr int kArrayBuffer = 34962;
 
 /// The GLB's binary chunk and (with meshopt) the fallback buffer's layout.

@@ -110,7 +110,7 @@ PlyFaces readSemanticPly(const fs::path& path) {
     REQUIRE(end != std::string::npos);
     std::istringstream header(bytes.substr(0, end));
     std::string line, element;
-    std::size_t nv = 0, nf = 0, vertex_floats = 0, vertex_bytes = 0;
+    std::size_t nv = 0, nf = 0, vertex_bytes = 0;
     std::vector<std::string> face_props;
     while (std::getline(header, line)) {
         std::istringstream l(line);
@@ -123,7 +123,6 @@ PlyFaces readSemanticPly(const fs::path& path) {
             std::string type;
             l >> type;
             vertex_bytes += type == "float" ? 4 : 1;
-            vertex_floats += type == "float";
         } else if (w == "property" && element == "face") {
             std::string type, name;
             l >> type;
