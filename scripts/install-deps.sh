@@ -16,6 +16,8 @@ PACKAGES=(
     liblzf-dev
     openmpi-bin libopenmpi-dev
     pybind11-dev python3-dev python3-numpy python3-pytest python3-open3d xvfb xauth
+    libmeshoptimizer-dev
+    nodejs npm
     "$@"
 )
 
