@@ -17,9 +17,12 @@ PACKAGES=(
     openmpi-bin libopenmpi-dev
     pybind11-dev python3-dev python3-numpy python3-pytest python3-open3d xvfb xauth
     libmeshoptimizer-dev
-    nodejs npm
+    nodejs
     "$@"
 )
+# npm: Debian's package only when no npm is on PATH (a NodeSource nodejs ships its own npm and
+# conflicts with Debian's).
+command -v npm > /dev/null 2>&1 || PACKAGES+=(npm)
 
 missing=()
 for pkg in "${PACKAGES[@]}"; do
