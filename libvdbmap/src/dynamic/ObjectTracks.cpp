@@ -38,7 +38,7 @@ std::vector<std::uint8_t> movingObjects(const std::vector<const std::vector<Scan
         for (std::size_t t = 0; t < tracks.size(); ++t) {
             const Track& tr = tracks[t];
             const double steps = static_cast<double>(tr.missed + 1);
-            const Vec3d predicted = tr.last + (tr.has_velocity ? steps * tr.velocity : Vec3d::Zero());
+            const Vec3d predicted = tr.has_velocity ? Vec3d(tr.last + steps * tr.velocity) : tr.last;
             const double gate = tr.has_velocity ? config.gate_m : config.max_step_m * steps;
             for (std::size_t i = 0; i < objects.size(); ++i) {
                 const ScanCluster& o = objects[i];

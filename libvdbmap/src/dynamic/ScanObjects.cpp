@@ -146,7 +146,7 @@ ScanObjects findScanObjects(const std::vector<Vec3f>& points_L, const std::vecto
     const float band = static_cast<float>(c.ground_band_m), low = static_cast<float>(c.low_band_min_m);
     std::vector<std::uint32_t> voxel_of(n, ~std::uint32_t(0));
     std::vector<std::array<std::int32_t, 3>> coords;
-    VoxelTable table(n / 4 + 16);
+    VoxelTable table(n + 16);  // at most one voxel per point: never full
     for (std::size_t i = 0; i < n; ++i) {
         const Vec3f& p = points_L[i];
         const float above = p.z() - ground[i];
