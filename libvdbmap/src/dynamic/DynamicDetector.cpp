@@ -260,23 +260,40 @@ std::vector<std::uint8_t> DynamicDetector::detect(std::size_t frame,
             window.push_back(&it->second);
         }
         const std::vector<std::uint8_t> moving = movingObjects(window, config_.tracks);
-        stats_.objects += moving.size();
-        for (std::size_t k = 0; k < moving.size(); ++k) {
-            stats_.objects_moving += moving[k];
-            stats_.objects_tracked += moving[k] && !objects.clusters[k].confirmed ? 1 : 0;
-        }
         const std::vector<std::uint8_t> low =
             lowPointsUnder(points_L, objects, moving, static_cast<float>(config_.objects.voxel_m));
+        // Points of moving objects not moving by their own test.
+        std::vector<std::size_t> candidates;
         for (std::size_t i = 0; i < points_L.size(); ++i) {
-            if (dynamic[i]) continue;
             const std::int32_t c = objects.cluster[i];
-            if (!(low[i] || (c >= 0 && moving[static_cast<std::size_t>(c)]))) continue;
-            if (config_.object_keep_hits > 0 && votes[i].free == 0 &&
-                votes[i].hit >= config_.object_keep_hits) {
+            if (!dynamic[i] && (low[i] || (c >= 0 && moving[static_cast<std::size_t>(c)]))) {
+                candidates.push_back(i);
+            }
+        }
+        // Static evidence over every scan of the window: a point of a moving object that scans
+        // hit and none saw through stays (a parked car joined to a moving one in one object,
+        // or an object a track wrongly continued).
+        std::vector<PointVotes> window_votes(candidates.size());
+        if (config_.object_keep_hits > 0 && !candidates.empty()) {
+            Timer votes_timer;
+            std::vector<std::size_t> first_frames, other_frames;
+            neighbours(frame, first_frames, other_frames);
+            first_frames.insert(first_frames.end(), other_frames.begin(), other_frames.end());
+            std::vector<VoteScan> scans;
+            for (const std::size_t f : first_frames) scans.push_back({&image(f), dataset_.frame(f).T_W_L.inverse()});
+            const Isometry3d& T_W_L = dataset_.frame(frame).T_W_L;
+            std::vector<Vec3f> candidates_W;
+            for (const std::size_t i : candidates) candidates_W.push_back((T_W_L * points_L[i].cast<double>()).cast<float>());
+            dynamicByFreeSpace(candidates_W, scans, {}, config_.votes, nullptr, &window_votes);
+            stats_.votes_s += votes_timer.elapsedSeconds();
+        }
+        for (std::size_t k = 0; k < candidates.size(); ++k) {
+            const PointVotes& v = window_votes[k];
+            if (config_.object_keep_hits > 0 && v.free == 0 && v.hit >= config_.object_keep_hits) {
                 ++stats_.points_kept_by_hits;
                 continue;
             }
-            dynamic[i] = 1;
+            dynamic[candidates[k]] = 1;
             ++stats_.points_object;
         }
     }

@@ -71,7 +71,7 @@ void declareDynamicOptions(OptionSpec& spec, DynamicRemovalConfig& c) {
              c.objects.max_extent_m, 20.0, "m");
     spec.add("dynamic_object_voxel_m",
              "Objects are connected over voxels of this size (26-neighbourhood)", c.objects.voxel_m,
-             0.3, "m");
+             0.2, "m");
     spec.add("dynamic_object_keep_hits",
              "A point of a moving object that at least this many scans hit and none saw through "
              "stays (0 = never)",

@@ -39,8 +39,9 @@ struct DynamicRemovalConfig {
     /// are removed whole, and tracked so that they stay moving when the test cannot tell.
     ScanObjectConfig objects;
     ObjectTrackConfig tracks;
-    /// An object's point that at least this many scans hit (a return within the margin of it)
-    /// and none saw through stays (static evidence beats the object's decision); 0 = never.
+    /// A point of a moving object (not moving by its own test) that at least this many scans of
+    /// the whole window hit (a return within the margin of it) and none saw through stays:
+    /// static evidence beats the object's decision; 0 = never.
     int object_keep_hits = 2;
 };
 

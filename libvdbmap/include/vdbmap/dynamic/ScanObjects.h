@@ -24,7 +24,7 @@ struct ScanObjectConfig {
     double low_band_min_m = 0.05;
     /// Objects: connected components of the non-ground points over voxels of this size
     /// (26-neighbourhood).
-    double voxel_m = 0.3;
+    double voxel_m = 0.2;
     /// An object is moving when at least min_points of its points and at least min_fraction of
     /// them were found moving by the free-space test, and its horizontal extent is at most
     /// max_extent_m (a facade with a few wrong points never is).
