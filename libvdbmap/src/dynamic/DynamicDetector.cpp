@@ -259,7 +259,8 @@ std::vector<std::uint8_t> DynamicDetector::detect(std::size_t frame,
         for (auto it = objects_.begin(); it != objects_.end() && it->first <= r; ++it) {
             window.push_back(&it->second);
         }
-        const std::vector<std::uint8_t> moving = movingObjects(window, config_.tracks);
+        std::vector<TrackBox> coasting;
+        const std::vector<std::uint8_t> moving = movingObjects(window, config_.tracks, &coasting);
         const std::vector<std::uint8_t> low =
             lowPointsUnder(points_L, objects, moving, static_cast<float>(config_.objects.voxel_m));
         // Points of moving objects not moving by their own test.
@@ -287,7 +288,27 @@ std::vector<std::uint8_t> DynamicDetector::detect(std::size_t frame,
             dynamicByFreeSpace(candidates_W, scans, {}, config_.votes, nullptr, &window_votes);
             stats_.votes_s += votes_timer.elapsedSeconds();
         }
+        // Moving tracks no object continued: the objects' points inside the box the track
+        // predicts go (an object that joined a static one at a kerb; its sides slide along
+        // their own planes, so the scans just before hit them: no static-evidence check).
+        if (!coasting.empty()) {
+            const Isometry3d& T_W_L = dataset_.frame(frame).T_W_L;
+            const double grow = config_.objects.voxel_m;
+            stats_.objects_tracked += coasting.size();
+            for (std::size_t i = 0; i < points_L.size(); ++i) {
+                if (dynamic[i] || objects.cluster[i] < 0) continue;
+                const Vec3d p = T_W_L * points_L[i].cast<double>();
+                for (const TrackBox& b : coasting) {
+                    if ((p.array() >= b.min_W.array() - grow).all() && (p.array() <= b.max_W.array() + grow).all()) {
+                        dynamic[i] = 1;
+                        ++stats_.points_object;
+                        break;
+                    }
+                }
+            }
+        }
         for (std::size_t k = 0; k < candidates.size(); ++k) {
+            if (dynamic[candidates[k]]) continue;  // in a track's box
             const PointVotes& v = window_votes[k];
             if (config_.object_keep_hits > 0 && v.free == 0 && v.hit >= config_.object_keep_hits) {
                 ++stats_.points_kept_by_hits;

@@ -16,12 +16,15 @@ struct Track {
     int since_confirmed = 0;         ///< scans since its last confirmed object
     int confirmations = 0;
     float extent_m = 0.0f;
+    Vec3d min_W = Vec3d::Zero(), max_W = Vec3d::Zero();  ///< its last object's box
 };
 
 }  // namespace
 
 std::vector<std::uint8_t> movingObjects(const std::vector<const std::vector<ScanCluster>*>& window,
-                                        const ObjectTrackConfig& config) {
+                                        const ObjectTrackConfig& config,
+                                        std::vector<TrackBox>* coasting) {
+    if (coasting != nullptr) coasting->clear();
     if (window.empty()) return {};
     const std::vector<ScanCluster>& current = *window.back();
     std::vector<std::uint8_t> moving(current.size(), 0);
@@ -60,6 +63,8 @@ std::vector<std::uint8_t> movingObjects(const std::vector<const std::vector<Scan
             tr.last = o.centroid_W;
             tr.missed = 0;
             tr.extent_m = o.extent_m;
+            tr.min_W = o.min_W;
+            tr.max_W = o.max_W;
             if (o.confirmed) {
                 tr.since_confirmed = 0;
                 ++tr.confirmations;
@@ -78,6 +83,11 @@ std::vector<std::uint8_t> movingObjects(const std::vector<const std::vector<Scan
             if (!track_used[t]) {
                 ++tr.missed;
                 ++tr.since_confirmed;
+                if (last_scan && coasting != nullptr && tr.has_velocity && tr.missed <= config.max_missed &&
+                    tr.confirmations >= config.min_confirmations && tr.since_confirmed <= config.frames) {
+                    const Vec3d shift = static_cast<double>(tr.missed) * tr.velocity;
+                    coasting->push_back({tr.min_W + shift, tr.max_W + shift});
+                }
             }
             if (tr.missed <= config.max_missed && tr.since_confirmed <= config.frames) kept.push_back(tr);
         }
@@ -89,6 +99,8 @@ std::vector<std::uint8_t> movingObjects(const std::vector<const std::vector<Scan
             tr.last = objects[i].centroid_W;
             tr.confirmations = 1;
             tr.extent_m = objects[i].extent_m;
+            tr.min_W = objects[i].min_W;
+            tr.max_W = objects[i].max_W;
             tracks.push_back(tr);
         }
     }

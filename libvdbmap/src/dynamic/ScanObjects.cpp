@@ -193,6 +193,7 @@ ScanObjects findScanObjects(const std::vector<Vec3f>& points_L, const std::vecto
             k = static_cast<std::int32_t>(out.clusters.size());
             ScanCluster sc;
             sc.min_L = sc.max_L = points_L[i];
+            sc.min_W = sc.max_W = T_W_L * points_L[i].cast<double>();
             out.clusters.push_back(sc);
             sum.push_back(Vec3d::Zero());
         }
@@ -200,6 +201,9 @@ ScanObjects findScanObjects(const std::vector<Vec3f>& points_L, const std::vecto
         ScanCluster& sc = out.clusters[static_cast<std::size_t>(k)];
         sc.min_L = sc.min_L.cwiseMin(points_L[i]);
         sc.max_L = sc.max_L.cwiseMax(points_L[i]);
+        const Vec3d p_W = T_W_L * points_L[i].cast<double>();
+        sc.min_W = sc.min_W.cwiseMin(p_W);
+        sc.max_W = sc.max_W.cwiseMax(p_W);
         ++sc.points;
         sc.dynamic_points += dynamic[i] ? 1u : 0u;
         sum[static_cast<std::size_t>(k)] += points_L[i].cast<double>();

@@ -23,7 +23,7 @@ struct ObjectTrackConfig {
     /// A track makes objects moving only after this many confirmed objects.
     int min_confirmations = 2;
     /// A track not matched in more than this many consecutive scans ends.
-    int max_missed = 2;
+    int max_missed = 3;
 };
 
 /// Scans of history a decision needs: the tracker runs over the window of the scan and the
@@ -37,7 +37,14 @@ inline int trackHistory(const ObjectTrackConfig& c) { return c.frames > 0 ? c.fr
 /// 1 if it is moving: confirmed itself, or (compact and at most twice the track's last extent
 /// + 1 m) the continuation of a track with at least min_confirmations confirmed objects, the
 /// last of them at most `frames` scans before.
+/// `coasting` (may be null) gets, for each moving track that no object of the last scan
+/// continued (its object joined a static one, or was not seen), the box (W) of its last object
+/// moved by its velocity to the last scan: what the track predicts the object occupies.
+struct TrackBox {
+    Vec3d min_W, max_W;
+};
 std::vector<std::uint8_t> movingObjects(const std::vector<const std::vector<ScanCluster>*>& window,
-                                        const ObjectTrackConfig& config);
+                                        const ObjectTrackConfig& config,
+                                        std::vector<TrackBox>* coasting = nullptr);
 
 }  // namespace vdbmap

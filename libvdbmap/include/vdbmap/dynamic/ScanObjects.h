@@ -37,6 +37,7 @@ struct ScanObjectConfig {
 struct ScanCluster {
     Vec3d centroid_W = Vec3d::Zero();  ///< world frame W, metres
     Vec3f min_L = Vec3f::Zero(), max_L = Vec3f::Zero();  ///< bounding box in the sensor frame L
+    Vec3d min_W = Vec3d::Zero(), max_W = Vec3d::Zero();  ///< bounding box in the world frame W
     std::uint32_t points = 0;
     std::uint32_t dynamic_points = 0;  ///< found moving by the free-space test
     bool confirmed = false;            ///< moving by its own points (ScanObjectConfig)
