@@ -176,6 +176,24 @@ TEST_CASE("ObjectTracks: a tracked object stays moving for track_frames scans, a
         CHECK(moving[0] == 0);
         CHECK(moving[1] == (s <= 4 + config.frames ? 1 : 0));
     }
+    // The mover's object not seen in the last scan: the track predicts its box there, its last
+    // box moved by its velocity (1.2 m per scan along x).
+    {
+        std::vector<std::vector<ScanCluster>> seen(all.begin(), all.begin() + 7);
+        for (auto& scan : seen) {
+            ScanCluster& m = scan[1];
+            m.min_W = m.centroid_W - Vec3d(2.0, 1.0, 1.0);
+            m.max_W = m.centroid_W + Vec3d(2.0, 1.0, 1.0);
+        }
+        seen[6].pop_back();  // scan 6: only the static object
+        std::vector<const std::vector<ScanCluster>*> w;
+        for (const auto& scan : seen) w.push_back(&scan);
+        std::vector<TrackBox> boxes;
+        movingObjects(w, config, &boxes);
+        REQUIRE(boxes.size() == 1);
+        CHECK((boxes[0].min_W - Vec3d(1.2 * 6 - 2.0, -1.0, 0.0)).norm() < 1e-9);
+        CHECK((boxes[0].max_W - Vec3d(1.2 * 6 + 2.0, 1.0, 2.0)).norm() < 1e-9);
+    }
     // Confirmed once only: not enough to make others moving.
     for (int s = 1; s < scans; ++s) all[static_cast<std::size_t>(s)][1].confirmed = false;
     std::vector<const std::vector<ScanCluster>*> window{&all[0], &all[1], &all[2]};
