@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 
+#include "vdbmap/core/UnionFind.h"
+
 namespace vdbmap {
 
 namespace {
@@ -123,14 +125,6 @@ std::uint64_t voxelKey(std::int64_t x, std::int64_t y, std::int64_t z) {
            (static_cast<std::uint64_t>(z + kKeyOffset) & m);
 }
 
-std::uint32_t findRoot(std::vector<std::uint32_t>& parent, std::uint32_t a) {
-    while (parent[a] != a) {
-        parent[a] = parent[parent[a]];
-        a = parent[a];
-    }
-    return a;
-}
-
 }  // namespace
 
 ScanObjects findScanObjects(const std::vector<Vec3f>& points_L, const std::vector<std::uint8_t>& dynamic,
@@ -163,8 +157,7 @@ ScanObjects findScanObjects(const std::vector<Vec3f>& points_L, const std::vecto
         voxel_of[i] = id;
     }
     // Connected components over the 26-neighbourhood (union-find, the lower index the root).
-    std::vector<std::uint32_t> parent(coords.size());
-    for (std::uint32_t v = 0; v < parent.size(); ++v) parent[v] = v;
+    std::vector<std::uint32_t> parent = makeDisjointSets(coords.size());
     for (std::uint32_t v = 0; v < coords.size(); ++v) {
         const auto& a = coords[v];
         for (int dz = -1; dz <= 1; ++dz) {
@@ -174,10 +167,7 @@ ScanObjects findScanObjects(const std::vector<Vec3f>& points_L, const std::vecto
                     if (dz < 0 || (dz == 0 && (dy < 0 || (dy == 0 && dx <= 0)))) continue;
                     const std::int64_t w = table.find(voxelKey(a[0] + dx, a[1] + dy, a[2] + dz));
                     if (w < 0) continue;
-                    std::uint32_t ra = findRoot(parent, v), rb = findRoot(parent, static_cast<std::uint32_t>(w));
-                    if (ra == rb) continue;
-                    if (rb < ra) std::swap(ra, rb);
-                    parent[rb] = ra;
+                    uniteSets(parent, v, static_cast<std::uint32_t>(w));
                 }
             }
         }
