@@ -8,7 +8,8 @@ Usage: dynamic_points_eval.py SEQ RUN
 A point is moving when its label's class (lower 16 bits) is a SemanticKITTI moving class,
 252..259. Recall = removed moving / moving points of the frames the run tested (those within
 the dataset's range filter: report.json points_in counts them); precision = removed moving /
-removed. Prints one JSON line.
+removed. Prints one JSON line, with the recall per instance id (the label's upper 16 bits)
+and per frame.
 """
 import array
 import json
@@ -38,6 +39,8 @@ def main():
     labels_dir = os.path.join(seq, "labels")
     scans_dir = os.path.join(seq, "velodyne")
     moving = removed_moving = 0
+    by_instance = {}  # instance id (upper 16 bits) -> [moving, removed]
+    by_frame = {}
     min_r2 = report["config"]["dataset"].get("min_range_m", 1.0) ** 2
     max_r2 = report["config"]["dataset"].get("max_range_m", 200.0) ** 2
     for name in sorted(os.listdir(labels_dir)):
@@ -54,7 +57,14 @@ def main():
                 if r2 < min_r2 or r2 > max_r2:
                     continue
                 moving += 1
-                removed_moving += i in rem
+                hit = i in rem
+                removed_moving += hit
+                inst = by_instance.setdefault(v >> 16, [0, 0])
+                inst[0] += 1
+                inst[1] += hit
+                fr = by_frame.setdefault(frame, [0, 0])
+                fr[0] += 1
+                fr[1] += hit
     out = {
         "moving_points": moving,
         "removed": n_removed,
@@ -65,6 +75,8 @@ def main():
         "removal_s": dyn.get("seconds"),
         "integrate_s": report["stages"]["integrate.atsdf"].get("seconds"),
         "static_removed": n_removed - removed_moving,
+        "recall_by_instance": {str(k): round(v[1] / v[0], 3) for k, v in sorted(by_instance.items())},
+        "recall_by_frame": [round(by_frame[f][1] / by_frame[f][0], 3) for f in sorted(by_frame)],
     }
     print(json.dumps(out))
 

@@ -36,6 +36,7 @@ struct DynamicSceneOptions {
     Vec3d mover_size{4.0, 1.8, 1.5};
     double mover_clearance_m = 0.2;     ///< its underside above the ground
     bool mover_moves = true;            ///< false: it stays at mover_start (a parked car)
+    int mover_stop_frame = -1;          ///< >= 0: it stops there from this frame on
     Vec3d pole{20.0, -3.0, 0.0};
     double pole_radius_m = 0.05, pole_height_m = 4.0;
     AxisBox parked{{30.0, -7.0, 0.0}, {34.0, -5.2, 1.5}};
@@ -51,7 +52,8 @@ struct DynamicScan {
 };
 
 inline AxisBox moverBox(const DynamicSceneOptions& o, int frame) {
-    const Vec3d c = o.mover_start + (o.mover_moves ? static_cast<double>(frame) : 0.0) * o.mover_step;
+    const int moved = o.mover_stop_frame >= 0 ? std::min(frame, o.mover_stop_frame) : frame;
+    const Vec3d c = o.mover_start + (o.mover_moves ? static_cast<double>(moved) : 0.0) * o.mover_step;
     const Vec3d h = 0.5 * o.mover_size;
     return {{c.x() - h.x(), c.y() - h.y(), o.mover_clearance_m},
             {c.x() + h.x(), c.y() + h.y(), o.mover_clearance_m + o.mover_size.z()}};

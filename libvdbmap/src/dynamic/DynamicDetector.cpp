@@ -21,7 +21,7 @@ namespace {
 [[noreturn]] void bad(const std::string& who, const std::string& key, const std::string& what,
                       double value) {
     std::ostringstream os;
-    os << who << ": option 'dynamic_removal." << key << "' must be " << what << ", got " << value;
+    os << who << ": option 'dynamic_" << key << "' must be " << what << ", got " << value;
     throw ConfigError(os.str());
 }
 
@@ -57,6 +57,28 @@ void validateDynamicRemovalConfig(const DynamicRemovalConfig& c, const std::stri
     if (!(c.votes.no_return_free_within_m >= 0.0) || !std::isfinite(c.votes.no_return_free_within_m)) {
         bad(who, "no_return_free_within_m", "finite and >= 0", c.votes.no_return_free_within_m);
     }
+    const ScanObjectConfig& o = c.objects;
+    if (!(o.ground_cell_m > 0.0 && o.ground_cell_m <= 100.0)) bad(who, "ground_cell_m", "in (0, 100]", o.ground_cell_m);
+    if (o.ground_radius_cells < 0 || o.ground_radius_cells > 50) {
+        bad(who, "ground_radius_cells", "in [0, 50]", o.ground_radius_cells);
+    }
+    if (!(o.ground_slope >= 0.0) || !std::isfinite(o.ground_slope)) bad(who, "ground_slope", "finite and >= 0", o.ground_slope);
+    if (!(o.ground_band_m >= 0.0) || !std::isfinite(o.ground_band_m)) {
+        bad(who, "ground_band_m", "finite and >= 0", o.ground_band_m);
+    }
+    if (!(o.voxel_m >= 0.01 && o.voxel_m <= 10.0)) bad(who, "object_voxel_m", "in [0.01, 10]", o.voxel_m);
+    if (o.min_points < 1) bad(who, "object_min_points", ">= 1", o.min_points);
+    if (!(o.min_fraction >= 0.0 && o.min_fraction <= 1.0)) bad(who, "object_min_fraction", "in [0, 1]", o.min_fraction);
+    if (!(o.max_extent_m > 0.0) || !std::isfinite(o.max_extent_m)) {
+        bad(who, "object_max_extent_m", "finite and > 0", o.max_extent_m);
+    }
+    if (c.tracks.frames < 0 || c.tracks.frames > 1000) bad(who, "track_frames", "in [0, 1000]", c.tracks.frames);
+    if (!(c.tracks.gate_m > 0.0) || !std::isfinite(c.tracks.gate_m)) bad(who, "track_gate_m", "finite and > 0", c.tracks.gate_m);
+    if (!(c.tracks.max_step_m > 0.0) || !std::isfinite(c.tracks.max_step_m)) {
+        bad(who, "track_max_step_m", "finite and > 0", c.tracks.max_step_m);
+    }
+    if (c.tracks.min_confirmations < 1) bad(who, "track_min_confirmations", ">= 1", c.tracks.min_confirmations);
+    if (c.object_keep_hits < 0) bad(who, "object_keep_hits", ">= 0", c.object_keep_hits);
     if (c.votes.min_free_votes < 1) bad(who, "min_free_votes", ">= 1", c.votes.min_free_votes);
     if (!(c.votes.free_fraction >= 0.0 && c.votes.free_fraction <= 1.0)) {
         bad(who, "free_fraction", "in [0, 1]", c.votes.free_fraction);
@@ -124,42 +146,39 @@ void DynamicDetector::evictBefore(std::size_t rank) {
     images_.erase(images_.begin(), images_.lower_bound(rank));
 }
 
-std::vector<std::uint8_t> DynamicDetector::detect(std::size_t frame,
-                                                  const std::vector<Vec3f>& points_L,
-                                                  const std::vector<std::uint32_t>& index,
-                                                  std::size_t points_in_file) {
-    Timer timer;
-    std::vector<std::uint8_t> dynamic(points_L.size(), 0);
-    ++stats_.scans;
-    stats_.points_in += points_L.size();
+void DynamicDetector::buildImages(const std::vector<std::size_t>& frames) {
+    Timer images_timer;
+    // Build the missing images in parallel (usually the one or two newly in the window).
+    std::vector<std::size_t> missing;
+    for (const std::size_t f : frames) {
+        if (!images_.count(rank_[f])) missing.push_back(f);
+    }
+    std::vector<std::unique_ptr<RangeImage>> built(missing.size());
+    tbb::parallel_for(std::size_t(0), missing.size(), [&](std::size_t i) {
+        const PointCloud cloud = dataset_.loadScan(missing[i]);
+        built[i] = std::make_unique<RangeImage>(cloud.points, config_.image);
+    });
+    for (std::size_t i = 0; i < missing.size(); ++i) {
+        images_.emplace(rank_[missing[i]], std::move(built[i]));
+        ++stats_.images_built;
+    }
+    stats_.images_s += images_timer.elapsedSeconds();
+}
 
-    // Free space: the scans around this one in time.
+std::vector<std::uint8_t> DynamicDetector::freeSpace(std::size_t frame, const std::vector<Vec3f>& points_L,
+                                                     std::vector<PointVotes>& votes) {
+    std::vector<std::uint8_t> dynamic(points_L.size(), 0);
+    votes.assign(points_L.size(), PointVotes{});
     std::vector<std::size_t> first_frames, other_frames;
     neighbours(frame, first_frames, other_frames);
+    if (first_frames.empty() && other_frames.empty()) return dynamic;
     int max_offset = config_.window_frames;
     for (const int f : config_.far_frames) max_offset = std::max(max_offset, f);
     const std::size_t r = rank_.at(frame);
     evictBefore(r > static_cast<std::size_t>(max_offset) ? r - static_cast<std::size_t>(max_offset) : 0);
-    {
-        Timer images_timer;
-        // Build the missing images in parallel (usually the one or two newly in the window).
-        std::vector<std::size_t> missing;
-        for (const auto* list : {&first_frames, &other_frames}) {
-            for (const std::size_t f : *list) {
-                if (!images_.count(rank_[f])) missing.push_back(f);
-            }
-        }
-        std::vector<std::unique_ptr<RangeImage>> built(missing.size());
-        tbb::parallel_for(std::size_t(0), missing.size(), [&](std::size_t i) {
-            const PointCloud cloud = dataset_.loadScan(missing[i]);
-            built[i] = std::make_unique<RangeImage>(cloud.points, config_.image);
-        });
-        for (std::size_t i = 0; i < missing.size(); ++i) {
-            images_.emplace(rank_[missing[i]], std::move(built[i]));
-            ++stats_.images_built;
-        }
-        stats_.images_s += images_timer.elapsedSeconds();
-    }
+    std::vector<std::size_t> all = first_frames;
+    all.insert(all.end(), other_frames.begin(), other_frames.end());
+    buildImages(all);
     auto scans = [&](const std::vector<std::size_t>& frames) {
         std::vector<VoteScan> out;
         for (const std::size_t f : frames) {
@@ -167,32 +186,137 @@ std::vector<std::uint8_t> DynamicDetector::detect(std::size_t frame,
         }
         return out;
     };
-    if (!first_frames.empty() || !other_frames.empty()) {
-        Timer votes_timer;
-        const Isometry3d& T_W_L = dataset_.frame(frame).T_W_L;
-        const Eigen::Matrix3f R = T_W_L.linear().cast<float>();
-        const Vec3f t = T_W_L.translation().cast<float>();
-        // Representatives: a point near the last tested one shares its decision.
-        const float share2 = static_cast<float>(config_.share_radius_m * config_.share_radius_m);
-        std::vector<Vec3f> tested_W;
-        std::vector<std::uint32_t> rep(points_L.size());
-        tested_W.reserve(points_L.size());
-        Vec3f last_L(1e30f, 1e30f, 1e30f);
-        for (std::size_t i = 0; i < points_L.size(); ++i) {
-            if ((points_L[i] - last_L).squaredNorm() > share2 || tested_W.empty()) {
-                last_L = points_L[i];
-                tested_W.push_back(R * points_L[i] + t);
-            }
-            rep[i] = static_cast<std::uint32_t>(tested_W.size() - 1);
+    Timer votes_timer;
+    const Isometry3d& T_W_L = dataset_.frame(frame).T_W_L;
+    const Eigen::Matrix3f R = T_W_L.linear().cast<float>();
+    const Vec3f t = T_W_L.translation().cast<float>();
+    // Representatives: a point near the last tested one shares its decision.
+    const float share2 = static_cast<float>(config_.share_radius_m * config_.share_radius_m);
+    std::vector<Vec3f> tested_W;
+    std::vector<std::uint32_t> rep(points_L.size());
+    tested_W.reserve(points_L.size());
+    Vec3f last_L(1e30f, 1e30f, 1e30f);
+    for (std::size_t i = 0; i < points_L.size(); ++i) {
+        if ((points_L[i] - last_L).squaredNorm() > share2 || tested_W.empty()) {
+            last_L = points_L[i];
+            tested_W.push_back(R * points_L[i] + t);
         }
-        std::size_t second = 0;
-        const std::vector<std::uint8_t> tested = dynamicByFreeSpace(
-            tested_W, scans(first_frames), scans(other_frames), config_.votes, &second);
-        for (std::size_t i = 0; i < points_L.size(); ++i) dynamic[i] = tested[rep[i]];
-        stats_.points_tested += tested_W.size();
-        stats_.points_second_pass += second;
-        for (const std::uint8_t d : dynamic) stats_.points_free_space += d;
-        stats_.votes_s += votes_timer.elapsedSeconds();
+        rep[i] = static_cast<std::uint32_t>(tested_W.size() - 1);
+    }
+    std::size_t second = 0;
+    std::vector<PointVotes> tested_votes;
+    const std::vector<std::uint8_t> tested = dynamicByFreeSpace(
+        tested_W, scans(first_frames), scans(other_frames), config_.votes, &second, &tested_votes);
+    for (std::size_t i = 0; i < points_L.size(); ++i) {
+        dynamic[i] = tested[rep[i]];
+        votes[i] = tested_votes[rep[i]];
+    }
+    stats_.points_tested += tested_W.size();
+    stats_.points_second_pass += second;
+    stats_.votes_s += votes_timer.elapsedSeconds();
+    return dynamic;
+}
+
+void DynamicDetector::replayHistory(std::size_t rank) {
+    const std::size_t history = static_cast<std::size_t>(trackHistory(config_.tracks));
+    const std::size_t from = rank > history ? rank - history : 0;
+    objects_.erase(objects_.begin(), objects_.lower_bound(from));
+    for (std::size_t q = from; q < rank; ++q) {
+        if (objects_.count(q)) continue;
+        const std::size_t frame = order_[q];
+        PointCloud cloud;
+        std::vector<std::uint32_t> index;
+        dataset_.loadScan(frame, cloud, nullptr, &index);
+        std::vector<PointVotes> votes;
+        const std::vector<std::uint8_t> free = freeSpace(frame, cloud.points, votes);
+        objects_[q] = findScanObjects(cloud.points, free, dataset_.frame(frame).T_W_L, config_.objects).clusters;
+        ++stats_.scans_replayed;
+    }
+}
+
+std::vector<std::uint8_t> DynamicDetector::detect(std::size_t frame,
+                                                  const std::vector<Vec3f>& points_L,
+                                                  const std::vector<std::uint32_t>& index,
+                                                  std::size_t points_in_file) {
+    Timer timer;
+    ++stats_.scans;
+    stats_.points_in += points_L.size();
+    const std::size_t r = rank_.at(frame);
+
+    // Free space: the scans around this one in time.
+    std::vector<PointVotes> votes;
+    std::vector<std::uint8_t> dynamic = freeSpace(frame, points_L, votes);
+    for (const std::uint8_t d : dynamic) stats_.points_free_space += d;
+
+    // Objects: whole objects enough of whose points are moving, and the continuations of the
+    // tracks of such objects over the scans before.
+    if (config_.objects.enabled) {
+        replayHistory(r);
+        const ScanObjects objects =
+            findScanObjects(points_L, dynamic, dataset_.frame(frame).T_W_L, config_.objects);
+        objects_[r] = objects.clusters;
+        std::vector<const std::vector<ScanCluster>*> window;
+        for (auto it = objects_.begin(); it != objects_.end() && it->first <= r; ++it) {
+            window.push_back(&it->second);
+        }
+        std::vector<TrackBox> coasting;
+        const std::vector<std::uint8_t> moving = movingObjects(window, config_.tracks, &coasting);
+        const std::vector<std::uint8_t> low =
+            lowPointsUnder(points_L, objects, moving, static_cast<float>(config_.objects.voxel_m));
+        // Points of moving objects not moving by their own test.
+        std::vector<std::size_t> candidates;
+        for (std::size_t i = 0; i < points_L.size(); ++i) {
+            const std::int32_t c = objects.cluster[i];
+            if (!dynamic[i] && (low[i] || (c >= 0 && moving[static_cast<std::size_t>(c)]))) {
+                candidates.push_back(i);
+            }
+        }
+        // Static evidence over every scan of the window: a point of a moving object that scans
+        // hit and none saw through stays (a parked car joined to a moving one in one object,
+        // or an object a track wrongly continued).
+        std::vector<PointVotes> window_votes(candidates.size());
+        if (config_.object_keep_hits > 0 && !candidates.empty()) {
+            Timer votes_timer;
+            std::vector<std::size_t> first_frames, other_frames;
+            neighbours(frame, first_frames, other_frames);
+            first_frames.insert(first_frames.end(), other_frames.begin(), other_frames.end());
+            std::vector<VoteScan> scans;
+            for (const std::size_t f : first_frames) scans.push_back({&image(f), dataset_.frame(f).T_W_L.inverse()});
+            const Isometry3d& T_W_L = dataset_.frame(frame).T_W_L;
+            std::vector<Vec3f> candidates_W;
+            for (const std::size_t i : candidates) candidates_W.push_back((T_W_L * points_L[i].cast<double>()).cast<float>());
+            dynamicByFreeSpace(candidates_W, scans, {}, config_.votes, nullptr, &window_votes);
+            stats_.votes_s += votes_timer.elapsedSeconds();
+        }
+        // Moving tracks no object continued: the objects' points inside the box the track
+        // predicts go (an object that joined a static one at a kerb; its sides slide along
+        // their own planes, so the scans just before hit them: no static-evidence check).
+        if (!coasting.empty()) {
+            const Isometry3d& T_W_L = dataset_.frame(frame).T_W_L;
+            const double grow = config_.objects.voxel_m;
+            stats_.objects_tracked += coasting.size();
+            for (std::size_t i = 0; i < points_L.size(); ++i) {
+                if (dynamic[i] || objects.cluster[i] < 0) continue;
+                const Vec3d p = T_W_L * points_L[i].cast<double>();
+                for (const TrackBox& b : coasting) {
+                    if ((p.array() >= b.min_W.array() - grow).all() && (p.array() <= b.max_W.array() + grow).all()) {
+                        dynamic[i] = 1;
+                        ++stats_.points_object;
+                        break;
+                    }
+                }
+            }
+        }
+        for (std::size_t k = 0; k < candidates.size(); ++k) {
+            if (dynamic[candidates[k]]) continue;  // in a track's box
+            const PointVotes& v = window_votes[k];
+            if (config_.object_keep_hits > 0 && v.free == 0 && v.hit >= config_.object_keep_hits) {
+                ++stats_.points_kept_by_hits;
+                continue;
+            }
+            dynamic[candidates[k]] = 1;
+            ++stats_.points_object;
+        }
     }
 
     // Labels: SemanticKITTI's moving classes.

@@ -61,8 +61,10 @@ std::vector<std::uint8_t> dynamicByFreeSpace(const std::vector<Vec3f>& points_W,
                                              const std::vector<VoteScan>& first,
                                              const std::vector<VoteScan>& others,
                                              const FreeSpaceVoteConfig& config,
-                                             std::size_t* second_pass) {
+                                             std::size_t* second_pass,
+                                             std::vector<PointVotes>* votes) {
     std::vector<std::uint8_t> dynamic(points_W.size(), 0);
+    if (votes != nullptr) votes->assign(points_W.size(), PointVotes{});
     std::atomic<std::size_t> asked_all{0};
     if (first.empty() && others.empty()) return dynamic;
     const std::vector<FloatScan> a = asFloat(first), b = asFloat(others);
@@ -75,10 +77,12 @@ std::vector<std::uint8_t> dynamicByFreeSpace(const std::vector<Vec3f>& points_W,
                           for (std::size_t i = range.begin(); i != range.end(); ++i) {
                               PointVotes v;
                               addVotes(points_W[i], a, margin_m, margin_per_m, no_return_m, v);
-                              if (v.free == 0 && !a.empty()) continue;  // static: no scan saw through it
-                              ++asked;
-                              addVotes(points_W[i], b, margin_m, margin_per_m, no_return_m, v);
-                              dynamic[i] = isDynamic(v, config) ? 1 : 0;
+                              if (v.free != 0 || a.empty()) {  // else static: no scan saw through it
+                                  ++asked;
+                                  addVotes(points_W[i], b, margin_m, margin_per_m, no_return_m, v);
+                                  dynamic[i] = isDynamic(v, config) ? 1 : 0;
+                              }
+                              if (votes != nullptr) (*votes)[i] = v;
                           }
                           asked_all += asked;
                       });

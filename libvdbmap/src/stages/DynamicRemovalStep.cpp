@@ -54,7 +54,50 @@ void declareDynamicOptions(OptionSpec& spec, DynamicRemovalConfig& c) {
     spec.add("dynamic_share_radius_m",
              "A point this close to the last tested point before it in the scan shares its "
              "decision (0 = test every point)",
-             c.share_radius_m, 0.1, "m");
+             c.share_radius_m, 0.25, "m");
+    spec.add("dynamic_objects",
+             "Object level: cut each scan into objects (connected non-ground points) and remove "
+             "an object whole when enough of its points are moving; track moving objects so that "
+             "they stay moving where the free-space test cannot tell (the end of a drive)",
+             c.objects.enabled, true);
+    spec.add("dynamic_object_min_points",
+             "An object is moving when at least this many of its points are moving by the "
+             "free-space test...",
+             c.objects.min_points, 5);
+    spec.add("dynamic_object_min_fraction", "...and at least this fraction of its points",
+             c.objects.min_fraction, 0.2);
+    spec.add("dynamic_object_max_extent_m",
+             "Objects wider (horizontal diagonal) than this are never moving (facades, hedges)",
+             c.objects.max_extent_m, 20.0, "m");
+    spec.add("dynamic_object_voxel_m",
+             "Objects are connected over voxels of this size (26-neighbourhood)", c.objects.voxel_m,
+             0.2, "m");
+    spec.add("dynamic_object_keep_hits",
+             "A point of a moving object that at least this many scans hit and none saw through "
+             "stays (0 = never)",
+             c.object_keep_hits, 2);
+    spec.add("dynamic_ground_band_m",
+             "Points less than this above the local ground height (lowest points around, with a "
+             "slope allowance) are ground and join no object",
+             c.objects.ground_band_m, 0.2, "m");
+    spec.add("dynamic_ground_cell_m", "Cell of the ground height grid", c.objects.ground_cell_m, 1.0, "m");
+    spec.add("dynamic_ground_radius_cells", "Cells around a cell whose lowest points bound its ground",
+             c.objects.ground_radius_cells, 2, "cells");
+    spec.add("dynamic_ground_slope", "Ground rise allowed per metre to a neighbouring cell",
+             c.objects.ground_slope, 0.1);
+    spec.add("dynamic_track_frames",
+             "A tracked object stays moving this many scans after it was last seen moving by its "
+             "own points (0 = no tracking)",
+             c.tracks.frames, 10, "frames");
+    spec.add("dynamic_track_gate_m",
+             "An object continues a track if its centroid is within this of the track's prediction",
+             c.tracks.gate_m, 1.5, "m");
+    spec.add("dynamic_track_max_step_m",
+             "...or, for a track without a velocity yet, within this of its last centroid per scan",
+             c.tracks.max_step_m, 4.0, "m");
+    spec.add("dynamic_track_min_confirmations",
+             "Objects moving by their own points a track needs before it makes others moving",
+             c.tracks.min_confirmations, 2);
     spec.add("dynamic_use_labels",
              "Also remove points whose LiDAR label (when the dataset has them) is a moving class "
              "252-259",
@@ -112,6 +155,12 @@ void DynamicRemovalStep::finish(Context& ctx, const std::string& stage) const {
     r.set(key("points_tested"), s.points_tested);
     r.set(key("points_second_pass"), s.points_second_pass);
     r.set(key("range_images"), s.images_built);
+    r.set(key("points_object"), s.points_object);
+    r.set(key("points_kept_by_hits"), s.points_kept_by_hits);
+    r.set(key("objects"), s.objects);
+    r.set(key("objects_moving"), s.objects_moving);
+    r.set(key("objects_tracked"), s.objects_tracked);
+    r.set(key("scans_replayed"), s.scans_replayed);
     r.set(key("seconds"), s.seconds);
     r.set(key("range_images_s"), s.images_s);
     r.set(key("votes_s"), s.votes_s);

@@ -10,7 +10,9 @@
 
 #include "vdbmap/core/Types.h"
 #include "vdbmap/dynamic/FreeSpaceVotes.h"
+#include "vdbmap/dynamic/ObjectTracks.h"
 #include "vdbmap/dynamic/RangeImage.h"
+#include "vdbmap/dynamic/ScanObjects.h"
 
 namespace vdbmap {
 
@@ -30,9 +32,17 @@ struct DynamicRemovalConfig {
     /// A point within this distance of the last tested point before it in the scan (the scan
     /// order follows the rings) takes that point's decision instead of its own test: near the
     /// sensor several returns fall in one voxel, and the map cannot tell them apart anyway.
-    double share_radius_m = 0.1;
+    double share_radius_m = 0.25;
     RangeImageConfig image;
     FreeSpaceVoteConfig votes;
+    /// The object level (`objects.enabled`): a scan's objects with enough points found moving
+    /// are removed whole, and tracked so that they stay moving when the test cannot tell.
+    ScanObjectConfig objects;
+    ObjectTrackConfig tracks;
+    /// A point of a moving object (not moving by its own test) that at least this many scans of
+    /// the whole window hit (a return within the margin of it) and none saw through stays:
+    /// static evidence beats the object's decision; 0 = never.
+    int object_keep_hits = 2;
 };
 
 /// Throws ConfigError naming `who` and the option for a value out of range.
@@ -55,6 +65,12 @@ struct DynamicStats {
     std::size_t points_tested = 0;       ///< representatives tested (the others share)
     std::size_t points_second_pass = 0;  ///< points some first-pass scan saw through
     std::size_t images_built = 0;        ///< range images made (each frame at most once per pass)
+    std::size_t points_object = 0;       ///< removed by the object level (not by their own test)
+    std::size_t points_kept_by_hits = 0; ///< of a moving object, kept by static evidence
+    std::size_t objects = 0;             ///< objects found (summed over the scans decided)
+    std::size_t objects_moving = 0;      ///< of which moving
+    std::size_t objects_tracked = 0;     ///< of which moving by their track alone
+    std::size_t scans_replayed = 0;      ///< scans before a run's first ones, for the tracks
     double seconds = 0.0;                ///< wall time in detect(), images and label reads included
     double images_s = 0.0;               ///< of which reading neighbours and making their images
     double votes_s = 0.0;                ///< of which the free-space votes
@@ -90,6 +106,13 @@ public:
 private:
     const RangeImage& image(std::size_t frame);
     void evictBefore(std::size_t rank);
+    void buildImages(const std::vector<std::size_t>& frames);
+    /// The free-space flags of the points of `frame` (and each point's votes).
+    std::vector<std::uint8_t> freeSpace(std::size_t frame, const std::vector<Vec3f>& points_L,
+                                        std::vector<PointVotes>& votes);
+    /// The objects of the scans within trackHistory() before time rank `rank`, found now for
+    /// those not seen yet (a run that starts mid-sequence).
+    void replayHistory(std::size_t rank);
 
     const Dataset& dataset_;
     DynamicRemovalConfig config_;
@@ -99,6 +122,7 @@ private:
     static constexpr std::size_t kFirstPass = 4;
     std::vector<int> offsets_;  ///< -o, +o for each offset o, largest first
     std::map<std::size_t, std::unique_ptr<RangeImage>> images_;  ///< by time rank
+    std::map<std::size_t, std::vector<ScanCluster>> objects_;     ///< by time rank
     DynamicStats stats_;
 };
 

@@ -57,11 +57,13 @@ inline bool isDynamic(const PointVotes& v, const FreeSpaceVoteConfig& config) {
 /// them saw through is static without asking the others (most points: the test's cost is
 /// about first.size() look-ups per static point). The others are then asked only for the
 /// remaining points, and the decision counts the votes of both; `second_pass` (may be null)
-/// gets their number. Parallel over points (TBB).
+/// gets their number. `votes` (may be null) gets each point's votes: of the first scans, plus
+/// of the others for the points asked again. Parallel over points (TBB).
 std::vector<std::uint8_t> dynamicByFreeSpace(const std::vector<Vec3f>& points_W,
                                              const std::vector<VoteScan>& first,
                                              const std::vector<VoteScan>& others,
                                              const FreeSpaceVoteConfig& config,
-                                             std::size_t* second_pass = nullptr);
+                                             std::size_t* second_pass = nullptr,
+                                             std::vector<PointVotes>* votes = nullptr);
 
 }  // namespace vdbmap

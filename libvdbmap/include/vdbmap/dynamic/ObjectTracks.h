@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "vdbmap/dynamic/ScanObjects.h"
+
+namespace vdbmap {
+
+/// Tracking of moving objects over time (docs/dynamic.md, "Tracks"): an object seen moving
+/// earlier stays moving when the free-space test cannot tell any more (the last frames of a
+/// drive, where no later scan sees the places it leaves).
+struct ObjectTrackConfig {
+    /// A track stays moving this many scans after the last scan in which its object was
+    /// confirmed moving by its own points; 0 = no tracking (each scan's objects alone).
+    int frames = 10;
+    /// Association: an object joins the track whose predicted centroid (last centroid + velocity
+    /// per scan) is nearest, within gate_m; a track without a velocity yet (one object so far)
+    /// takes objects within max_step_m of its last centroid (the fastest mover's step per scan).
+    double gate_m = 1.5;
+    double max_step_m = 4.0;
+    /// A track makes objects moving only after this many confirmed objects.
+    int min_confirmations = 2;
+    /// A track not matched in more than this many consecutive scans ends.
+    int max_missed = 3;
+};
+
+/// Scans of history a decision needs: the tracker runs over the window of the scan and the
+/// trackHistory() scans before it, so that the decision depends on those scans alone (tiled,
+/// untiled and distributed runs decide the same).
+inline int trackHistory(const ObjectTrackConfig& c) { return c.frames > 0 ? c.frames + 2 : 0; }
+
+/// `window`: the objects of consecutive scans in time order, the scan being decided last. Runs
+/// a fresh tracker over the window (nearest predicted centroid, greedy one-to-one by distance;
+/// only objects confirmed moving start tracks) and returns, for each object of the last scan,
+/// 1 if it is moving: confirmed itself, or (compact and at most twice the track's last extent
+/// + 1 m) the continuation of a track with at least min_confirmations confirmed objects, the
+/// last of them at most `frames` scans before.
+/// `coasting` (may be null) gets, for each moving track that no object of the last scan
+/// continued (its object joined a static one, or was not seen), the box (W) of its last object
+/// moved by its velocity to the last scan: what the track predicts the object occupies.
+struct TrackBox {
+    Vec3d min_W, max_W;
+};
+std::vector<std::uint8_t> movingObjects(const std::vector<const std::vector<ScanCluster>*>& window,
+                                        const ObjectTrackConfig& config,
+                                        std::vector<TrackBox>* coasting = nullptr);
+
+}  // namespace vdbmap

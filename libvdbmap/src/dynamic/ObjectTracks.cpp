@@ -1,0 +1,110 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "vdbmap/dynamic/ObjectTracks.h"
+
+#include <algorithm>
+#include <tuple>
+
+namespace vdbmap {
+
+namespace {
+
+struct Track {
+    Vec3d last = Vec3d::Zero();      ///< centroid of its last object (W)
+    Vec3d velocity = Vec3d::Zero();  ///< per scan
+    bool has_velocity = false;
+    int missed = 0;                  ///< scans since its last object
+    int since_confirmed = 0;         ///< scans since its last confirmed object
+    int confirmations = 0;
+    float extent_m = 0.0f;
+    Vec3d min_W = Vec3d::Zero(), max_W = Vec3d::Zero();  ///< its last object's box
+};
+
+}  // namespace
+
+std::vector<std::uint8_t> movingObjects(const std::vector<const std::vector<ScanCluster>*>& window,
+                                        const ObjectTrackConfig& config,
+                                        std::vector<TrackBox>* coasting) {
+    if (coasting != nullptr) coasting->clear();
+    if (window.empty()) return {};
+    const std::vector<ScanCluster>& current = *window.back();
+    std::vector<std::uint8_t> moving(current.size(), 0);
+    for (std::size_t i = 0; i < current.size(); ++i) moving[i] = current[i].confirmed ? 1 : 0;
+    if (config.frames <= 0) return moving;
+
+    std::vector<Track> tracks;
+    for (std::size_t w = 0; w < window.size(); ++w) {
+        const std::vector<ScanCluster>& objects = *window[w];
+        const bool last_scan = w + 1 == window.size();
+        // Candidate pairs within the gate, nearest first (ties by track, then object: the
+        // result does not depend on anything but the window).
+        std::vector<std::tuple<double, std::size_t, std::size_t>> pairs;
+        for (std::size_t t = 0; t < tracks.size(); ++t) {
+            const Track& tr = tracks[t];
+            const double steps = static_cast<double>(tr.missed + 1);
+            const Vec3d predicted = tr.has_velocity ? Vec3d(tr.last + steps * tr.velocity) : tr.last;
+            const double gate = tr.has_velocity ? config.gate_m : config.max_step_m * steps;
+            for (std::size_t i = 0; i < objects.size(); ++i) {
+                const ScanCluster& o = objects[i];
+                if (!o.confirmed && (!o.compact || o.extent_m > 2.0f * tr.extent_m + 1.0f)) continue;
+                const double d = (o.centroid_W - predicted).norm();
+                if (d <= gate) pairs.emplace_back(d, t, i);
+            }
+        }
+        std::sort(pairs.begin(), pairs.end());
+        std::vector<char> track_used(tracks.size(), 0), object_used(objects.size(), 0);
+        for (const auto& [d, t, i] : pairs) {
+            if (track_used[t] || object_used[i]) continue;
+            track_used[t] = object_used[i] = 1;
+            Track& tr = tracks[t];
+            const ScanCluster& o = objects[i];
+            const Vec3d step = (o.centroid_W - tr.last) / static_cast<double>(tr.missed + 1);
+            tr.velocity = tr.has_velocity ? 0.5 * (tr.velocity + step) : step;
+            tr.has_velocity = true;
+            tr.last = o.centroid_W;
+            tr.missed = 0;
+            tr.extent_m = o.extent_m;
+            tr.min_W = o.min_W;
+            tr.max_W = o.max_W;
+            if (o.confirmed) {
+                tr.since_confirmed = 0;
+                ++tr.confirmations;
+            } else {
+                ++tr.since_confirmed;
+            }
+            if (last_scan && tr.confirmations >= config.min_confirmations &&
+                tr.since_confirmed <= config.frames) {
+                moving[i] = 1;
+            }
+        }
+        // Unmatched tracks coast; those lost or no longer moving end.
+        std::vector<Track> kept;
+        for (std::size_t t = 0; t < tracks.size(); ++t) {
+            Track tr = tracks[t];
+            if (!track_used[t]) {
+                ++tr.missed;
+                ++tr.since_confirmed;
+                if (last_scan && coasting != nullptr && tr.has_velocity && tr.missed <= config.max_missed &&
+                    tr.confirmations >= config.min_confirmations && tr.since_confirmed <= config.frames) {
+                    const Vec3d shift = static_cast<double>(tr.missed) * tr.velocity;
+                    coasting->push_back({tr.min_W + shift, tr.max_W + shift});
+                }
+            }
+            if (tr.missed <= config.max_missed && tr.since_confirmed <= config.frames) kept.push_back(tr);
+        }
+        tracks = std::move(kept);
+        // Confirmed objects no track took start tracks.
+        for (std::size_t i = 0; i < objects.size(); ++i) {
+            if (object_used[i] || !objects[i].confirmed) continue;
+            Track tr;
+            tr.last = objects[i].centroid_W;
+            tr.confirmations = 1;
+            tr.extent_m = objects[i].extent_m;
+            tr.min_W = objects[i].min_W;
+            tr.max_W = objects[i].max_W;
+            tracks.push_back(tr);
+        }
+    }
+    return moving;
+}
+
+}  // namespace vdbmap

@@ -1,0 +1,237 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "vdbmap/dynamic/ScanObjects.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include "vdbmap/core/UnionFind.h"
+
+namespace vdbmap {
+
+namespace {
+
+/// Ground height per point: the lowest z per cell, then the least over the neighbouring cells of
+/// (lowest z + slope * distance). Cells on a dense grid over the scan's xy bounding box.
+std::vector<float> groundHeight(const std::vector<Vec3f>& points_L, const ScanObjectConfig& c) {
+    std::vector<float> height(points_L.size(), 0.0f);
+    if (points_L.empty()) return height;
+    const float cell = static_cast<float>(c.ground_cell_m);
+    float x0 = std::numeric_limits<float>::max(), y0 = x0, x1 = -x0, y1 = -x0;
+    for (const Vec3f& p : points_L) {
+        x0 = std::min(x0, p.x());
+        y0 = std::min(y0, p.y());
+        x1 = std::max(x1, p.x());
+        y1 = std::max(y1, p.y());
+    }
+    const int nx = static_cast<int>((x1 - x0) / cell) + 1;
+    const int ny = static_cast<int>((y1 - y0) / cell) + 1;
+    const float kEmpty = std::numeric_limits<float>::max();
+    std::vector<float> lowest(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny), kEmpty);
+    std::vector<std::uint32_t> cell_of(points_L.size());
+    for (std::size_t i = 0; i < points_L.size(); ++i) {
+        const int ix = std::min(nx - 1, static_cast<int>((points_L[i].x() - x0) / cell));
+        const int iy = std::min(ny - 1, static_cast<int>((points_L[i].y() - y0) / cell));
+        cell_of[i] = static_cast<std::uint32_t>(iy * nx + ix);
+        float& l = lowest[cell_of[i]];
+        l = std::min(l, points_L[i].z());
+    }
+    // Separable: the least over a square of (z + slope * Chebyshev distance) is the least over
+    // rows of the least over columns (the distance term is max(|di|, |dj|) <= |di| + |dj|; the
+    // sum is a slightly looser slope on the diagonals, which is fine).
+    const int r = std::max(0, c.ground_radius_cells);
+    const float step = static_cast<float>(c.ground_slope * c.ground_cell_m);
+    std::vector<float> tmp(lowest.size(), kEmpty), ground(lowest.size(), kEmpty);
+    for (int y = 0; y < ny; ++y) {
+        for (int x = 0; x < nx; ++x) {
+            float v = kEmpty;
+            for (int d = -r; d <= r; ++d) {
+                const int xx = x + d;
+                if (xx < 0 || xx >= nx) continue;
+                const float l = lowest[static_cast<std::size_t>(y * nx + xx)];
+                if (l != kEmpty) v = std::min(v, l + step * static_cast<float>(std::abs(d)));
+            }
+            tmp[static_cast<std::size_t>(y * nx + x)] = v;
+        }
+    }
+    for (int y = 0; y < ny; ++y) {
+        for (int x = 0; x < nx; ++x) {
+            float v = kEmpty;
+            for (int d = -r; d <= r; ++d) {
+                const int yy = y + d;
+                if (yy < 0 || yy >= ny) continue;
+                const float l = tmp[static_cast<std::size_t>(yy * nx + x)];
+                if (l != kEmpty) v = std::min(v, l + step * static_cast<float>(std::abs(d)));
+            }
+            ground[static_cast<std::size_t>(y * nx + x)] = v;
+        }
+    }
+    for (std::size_t i = 0; i < points_L.size(); ++i) height[i] = ground[cell_of[i]];
+    return height;
+}
+
+/// Open-addressing hash of voxel keys to voxel indices.
+class VoxelTable {
+public:
+    explicit VoxelTable(std::size_t expected) {
+        std::size_t n = 16;
+        while (n < 2 * expected) n <<= 1;
+        keys_.assign(n, kEmptyKey);
+        values_.assign(n, 0);
+        mask_ = n - 1;
+    }
+    /// The index of `key`, inserting `next` if absent (returns it).
+    std::uint32_t insert(std::uint64_t key, std::uint32_t next) {
+        std::size_t h = hash(key);
+        while (keys_[h] != kEmptyKey) {
+            if (keys_[h] == key) return values_[h];
+            h = (h + 1) & mask_;
+        }
+        keys_[h] = key;
+        values_[h] = next;
+        return next;
+    }
+    /// The index of `key` or -1.
+    std::int64_t find(std::uint64_t key) const {
+        std::size_t h = hash(key);
+        while (keys_[h] != kEmptyKey) {
+            if (keys_[h] == key) return values_[h];
+            h = (h + 1) & mask_;
+        }
+        return -1;
+    }
+
+private:
+    static constexpr std::uint64_t kEmptyKey = ~std::uint64_t(0);
+    std::size_t hash(std::uint64_t k) const {
+        k ^= k >> 33;
+        k *= 0xff51afd7ed558ccdULL;
+        k ^= k >> 33;
+        return static_cast<std::size_t>(k) & mask_;
+    }
+    std::vector<std::uint64_t> keys_;
+    std::vector<std::uint32_t> values_;
+    std::size_t mask_ = 0;
+};
+
+constexpr int kKeyBits = 21;
+constexpr std::int64_t kKeyOffset = std::int64_t(1) << (kKeyBits - 1);
+
+std::uint64_t voxelKey(std::int64_t x, std::int64_t y, std::int64_t z) {
+    const std::uint64_t m = (std::uint64_t(1) << kKeyBits) - 1;
+    return ((static_cast<std::uint64_t>(x + kKeyOffset) & m) << (2 * kKeyBits)) |
+           ((static_cast<std::uint64_t>(y + kKeyOffset) & m) << kKeyBits) |
+           (static_cast<std::uint64_t>(z + kKeyOffset) & m);
+}
+
+}  // namespace
+
+ScanObjects findScanObjects(const std::vector<Vec3f>& points_L, const std::vector<std::uint8_t>& dynamic,
+                            const Isometry3d& T_W_L, const ScanObjectConfig& c) {
+    ScanObjects out;
+    const std::size_t n = points_L.size();
+    out.cluster.assign(n, ScanObjects::kGround);
+    if (n == 0) return out;
+    const std::vector<float> ground = groundHeight(points_L, c);
+
+    // Voxels of the points above the ground band.
+    const float inv = static_cast<float>(1.0 / c.voxel_m);
+    const float band = static_cast<float>(c.ground_band_m), low = static_cast<float>(c.low_band_min_m);
+    std::vector<std::uint32_t> voxel_of(n, ~std::uint32_t(0));
+    std::vector<std::array<std::int32_t, 3>> coords;
+    VoxelTable table(n + 16);  // at most one voxel per point: never full
+    for (std::size_t i = 0; i < n; ++i) {
+        const Vec3f& p = points_L[i];
+        const float above = p.z() - ground[i];
+        if (above < band) {
+            if (above > low) out.cluster[i] = ScanObjects::kLow;
+            continue;
+        }
+        const std::array<std::int32_t, 3> v{static_cast<std::int32_t>(std::floor(p.x() * inv)),
+                                            static_cast<std::int32_t>(std::floor(p.y() * inv)),
+                                            static_cast<std::int32_t>(std::floor(p.z() * inv))};
+        const auto next = static_cast<std::uint32_t>(coords.size());
+        const std::uint32_t id = table.insert(voxelKey(v[0], v[1], v[2]), next);
+        if (id == next) coords.push_back(v);
+        voxel_of[i] = id;
+    }
+    // Connected components over the 26-neighbourhood (union-find, the lower index the root).
+    std::vector<std::uint32_t> parent = makeDisjointSets(coords.size());
+    for (std::uint32_t v = 0; v < coords.size(); ++v) {
+        const auto& a = coords[v];
+        for (int dz = -1; dz <= 1; ++dz) {
+            for (int dy = -1; dy <= 1; ++dy) {
+                for (int dx = -1; dx <= 1; ++dx) {
+                    // Each pair once: the 13 neighbours after this voxel in (z, y, x) order.
+                    if (dz < 0 || (dz == 0 && (dy < 0 || (dy == 0 && dx <= 0)))) continue;
+                    const std::int64_t w = table.find(voxelKey(a[0] + dx, a[1] + dy, a[2] + dz));
+                    if (w < 0) continue;
+                    uniteSets(parent, v, static_cast<std::uint32_t>(w));
+                }
+            }
+        }
+    }
+    // Clusters numbered by their first point in scan order.
+    std::vector<std::int32_t> cluster_of_root(coords.size(), -1);
+    std::vector<Vec3d> sum;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (voxel_of[i] == ~std::uint32_t(0)) continue;
+        const std::uint32_t root = findRoot(parent, voxel_of[i]);
+        std::int32_t& k = cluster_of_root[root];
+        if (k < 0) {
+            k = static_cast<std::int32_t>(out.clusters.size());
+            ScanCluster sc;
+            sc.min_L = sc.max_L = points_L[i];
+            sc.min_W = sc.max_W = T_W_L * points_L[i].cast<double>();
+            out.clusters.push_back(sc);
+            sum.push_back(Vec3d::Zero());
+        }
+        out.cluster[i] = k;
+        ScanCluster& sc = out.clusters[static_cast<std::size_t>(k)];
+        sc.min_L = sc.min_L.cwiseMin(points_L[i]);
+        sc.max_L = sc.max_L.cwiseMax(points_L[i]);
+        const Vec3d p_W = T_W_L * points_L[i].cast<double>();
+        sc.min_W = sc.min_W.cwiseMin(p_W);
+        sc.max_W = sc.max_W.cwiseMax(p_W);
+        ++sc.points;
+        sc.dynamic_points += dynamic[i] ? 1u : 0u;
+        sum[static_cast<std::size_t>(k)] += points_L[i].cast<double>();
+    }
+    for (std::size_t k = 0; k < out.clusters.size(); ++k) {
+        ScanCluster& sc = out.clusters[k];
+        sc.centroid_W = T_W_L * (sum[k] / static_cast<double>(sc.points));
+        const Vec3f size = sc.max_L - sc.min_L;
+        const double extent = std::hypot(static_cast<double>(size.x()), static_cast<double>(size.y()));
+        sc.extent_m = static_cast<float>(extent);
+        sc.compact = extent <= c.max_extent_m;
+        sc.confirmed = sc.compact && static_cast<int>(sc.dynamic_points) >= c.min_points &&
+                       static_cast<double>(sc.dynamic_points) >= c.min_fraction * static_cast<double>(sc.points);
+    }
+    return out;
+}
+
+std::vector<std::uint8_t> lowPointsUnder(const std::vector<Vec3f>& points_L, const ScanObjects& objects,
+                                         const std::vector<std::uint8_t>& moving, float grow_m) {
+    std::vector<std::uint8_t> out(points_L.size(), 0);
+    std::vector<std::size_t> boxes;
+    for (std::size_t k = 0; k < moving.size(); ++k) {
+        if (moving[k]) boxes.push_back(k);
+    }
+    if (boxes.empty()) return out;
+    for (std::size_t i = 0; i < points_L.size(); ++i) {
+        if (objects.cluster[i] != ScanObjects::kLow) continue;
+        const Vec3f& p = points_L[i];
+        for (const std::size_t k : boxes) {
+            const ScanCluster& c = objects.clusters[k];
+            if (p.x() >= c.min_L.x() - grow_m && p.x() <= c.max_L.x() + grow_m &&
+                p.y() >= c.min_L.y() - grow_m && p.y() <= c.max_L.y() + grow_m) {
+                out[i] = 1;
+                break;
+            }
+        }
+    }
+    return out;
+}
+
+}  // namespace vdbmap

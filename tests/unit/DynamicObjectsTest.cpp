@@ -1,0 +1,255 @@
+// SPDX-License-Identifier: Apache-2.0
+// Moving objects out of the map, object level (issue 33, docs/dynamic.md "Objects"): a scan cut
+// into ground and objects, objects tracked over time, and the detector on the closed-form street
+// of support/DynamicScene.h: a box driving ahead to the very last frame (where no later scan
+// sees through its places) and a box that stops at the end are removed whole; the ground, the
+// pole and the parked box are kept; the decision is the same whatever scan a run starts at and
+// whatever the thread count.
+#include <catch2/catch.hpp>
+
+#include <tbb/global_control.h>
+
+#include <filesystem>
+
+#include "support/DynamicScene.h"
+#include "vdbmap/dynamic/DynamicDetector.h"
+#include "vdbmap/dynamic/ObjectTracks.h"
+#include "vdbmap/dynamic/ScanObjects.h"
+#include "vdbmap/io/Dataset.h"
+
+namespace fs = std::filesystem;
+using namespace vdbmap;
+using test::Hit;
+
+namespace {
+
+fs::path scratch(const std::string& name) {
+    const fs::path dir = fs::temp_directory_path() / ("vdbmap_dynobj_" + name);
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+std::shared_ptr<Dataset> openGeneric(const fs::path& dir) {
+    DatasetConfig dc;
+    dc.format = "generic";
+    dc.path = dir.string();
+    dc.max_range_m = 100.0;
+    return Dataset::open(dc);
+}
+
+/// A flat square of ground points (z = 0, spacing 0.1 m, side `side_m` centred on the origin),
+/// in the sensor frame 1.7 m above: z = -1.7.
+void addGround(std::vector<Vec3f>& points, float side_m) {
+    for (float x = -side_m / 2; x <= side_m / 2; x += 0.1f) {
+        for (float y = -side_m / 2; y <= side_m / 2; y += 0.1f) points.emplace_back(x, y, -1.7f);
+    }
+}
+
+/// The faces x = x0 and y = y0 of a box from x0..x0+lx, y0..y0+ly, heights z0..z1 above the
+/// ground (sensor frame), spacing 0.1 m.
+void addBox(std::vector<Vec3f>& points, float x0, float y0, float lx, float ly, float z0, float z1) {
+    for (float z = z0; z <= z1; z += 0.1f) {
+        for (float x = x0; x <= x0 + lx; x += 0.1f) points.emplace_back(x, y0, z - 1.7f);
+        for (float y = y0; y <= y0 + ly; y += 0.1f) points.emplace_back(x0, y, z - 1.7f);
+    }
+}
+
+/// Per frame of [first, last], the detector's flags for that frame's points (and their file
+/// indices), for a detector that sees only those frames.
+struct Flags {
+    std::vector<std::vector<std::uint8_t>> dynamic;
+    std::vector<std::vector<std::uint32_t>> index;
+};
+
+Flags detectRange(const Dataset& dataset, const DynamicRemovalConfig& config, int first, int last) {
+    DynamicDetector detector(dataset, config);
+    Flags out;
+    for (int f = first; f <= last; ++f) {
+        PointCloud cloud;
+        ScanReadStats stats;
+        std::vector<std::uint32_t> index;
+        dataset.loadScan(static_cast<std::size_t>(f), cloud, &stats, &index);
+        out.dynamic.push_back(detector.detect(static_cast<std::size_t>(f), cloud.points, index, stats.points_read));
+        out.index.push_back(index);
+    }
+    return out;
+}
+
+/// Removed and total points of the mover and of the static surfaces over frames [from, to] of
+/// `flags` (which start at frame `first`).
+struct Recall {
+    std::size_t mover_removed = 0, mover = 0, static_removed = 0, statics = 0;
+    double recall() const { return mover ? static_cast<double>(mover_removed) / static_cast<double>(mover) : 0.0; }
+};
+
+Recall count(const Flags& flags, const std::vector<test::DynamicScan>& scans, int first, int from, int to) {
+    Recall r;
+    for (int f = from; f <= to; ++f) {
+        const auto& dyn = flags.dynamic[static_cast<std::size_t>(f - first)];
+        const auto& index = flags.index[static_cast<std::size_t>(f - first)];
+        for (std::size_t i = 0; i < dyn.size(); ++i) {
+            if (scans[static_cast<std::size_t>(f)].hits[index[i]] == Hit::Mover) {
+                ++r.mover;
+                r.mover_removed += dyn[i];
+            } else {
+                ++r.statics;
+                r.static_removed += dyn[i];
+            }
+        }
+    }
+    return r;
+}
+
+std::vector<test::DynamicScan> makeScans(const test::DynamicSceneOptions& o) {
+    std::vector<test::DynamicScan> scans;
+    for (int f = 0; f < o.frames; ++f) scans.push_back(test::dynamicScan(o, f));
+    return scans;
+}
+
+}  // namespace
+
+TEST_CASE("ScanObjects: the ground joins no object, boxes are objects, moving by their share",
+          "[dynamic][objects]") {
+    std::vector<Vec3f> points;
+    addGround(points, 20.0f);
+    const std::size_t ground_end = points.size();
+    addBox(points, 2.0f, 2.0f, 4.0f, 1.8f, 0.3f, 1.5f);  // a car, 0.3 m above the ground
+    const std::size_t box_a_end = points.size();
+    addBox(points, 2.0f, -5.0f, 1.0f, 1.0f, 0.3f, 1.5f);  // another, 5 m away
+    const std::size_t box_b_end = points.size();
+    points.emplace_back(4.0f, 2.5f, 0.1f - 1.7f);   // 0.1 m above the ground under box A
+    points.emplace_back(-8.0f, -8.0f, 0.1f - 1.7f);  // 0.1 m above the ground, under nothing
+    // Box A: 30 % of its points moving; box B: 10 %.
+    std::vector<std::uint8_t> dynamic(points.size(), 0);
+    for (std::size_t i = ground_end; i < box_a_end; ++i) dynamic[i] = (i - ground_end) % 10 < 3;
+    for (std::size_t i = box_a_end; i < box_b_end; ++i) dynamic[i] = (i - box_a_end) % 10 < 1;
+    Isometry3d T_W_L = Isometry3d::Identity();
+    T_W_L.translation() = Vec3d(100.0, 0.0, 1.7);
+    const ScanObjectConfig config;  // fraction 0.2, 5 points
+    const ScanObjects o = findScanObjects(points, dynamic, T_W_L, config);
+    for (std::size_t i = 0; i < ground_end; ++i) REQUIRE(o.cluster[i] == ScanObjects::kGround);
+    REQUIRE(o.clusters.size() == 2);
+    for (std::size_t i = ground_end; i < box_a_end; ++i) REQUIRE(o.cluster[i] == 0);
+    for (std::size_t i = box_a_end; i < box_b_end; ++i) REQUIRE(o.cluster[i] == 1);
+    CHECK(o.cluster[box_b_end] == ScanObjects::kLow);
+    CHECK(o.cluster[box_b_end + 1] == ScanObjects::kLow);
+    CHECK(o.clusters[0].confirmed);
+    CHECK_FALSE(o.clusters[1].confirmed);
+    CHECK(o.clusters[0].points == box_a_end - ground_end);
+    // The centroid in W: the L mean moved by T_W_L.
+    Vec3d mean = Vec3d::Zero();
+    for (std::size_t i = ground_end; i < box_a_end; ++i) mean += points[i].cast<double>();
+    mean /= static_cast<double>(box_a_end - ground_end);
+    CHECK((o.clusters[0].centroid_W - T_W_L * mean).norm() < 1e-6);
+    // The low point under box A goes with it, the other stays.
+    const std::vector<std::uint8_t> low = lowPointsUnder(points, o, {1, 0}, 0.3f);
+    CHECK(low[box_b_end] == 1);
+    CHECK(low[box_b_end + 1] == 0);
+    CHECK(low[0] == 0);
+}
+
+TEST_CASE("ObjectTracks: a tracked object stays moving for track_frames scans, a static one never",
+          "[dynamic][objects]") {
+    // An object moving 1.2 m per scan along x, confirmed in scans 0..4 only, and a static
+    // object 3 m beside its path, never confirmed.
+    const int scans = 25;
+    std::vector<std::vector<ScanCluster>> all(scans);
+    for (int s = 0; s < scans; ++s) {
+        ScanCluster mover;
+        mover.centroid_W = Vec3d(1.2 * s, 0.0, 1.0);
+        mover.confirmed = s <= 4;
+        mover.compact = true;
+        mover.extent_m = 4.0f;
+        ScanCluster still;
+        still.centroid_W = Vec3d(12.0, 3.0, 1.0);
+        still.compact = true;
+        still.extent_m = 4.0f;
+        all[static_cast<std::size_t>(s)] = {still, mover};
+    }
+    ObjectTrackConfig config;  // 10 frames, history 12
+    for (int s = 0; s < scans; ++s) {
+        std::vector<const std::vector<ScanCluster>*> window;
+        for (int w = std::max(0, s - trackHistory(config)); w <= s; ++w) window.push_back(&all[static_cast<std::size_t>(w)]);
+        const std::vector<std::uint8_t> moving = movingObjects(window, config);
+        INFO("scan " << s);
+        CHECK(moving[0] == 0);
+        CHECK(moving[1] == (s <= 4 + config.frames ? 1 : 0));
+    }
+    // The mover's object not seen in the last scan: the track predicts its box there, its last
+    // box moved by its velocity (1.2 m per scan along x).
+    {
+        std::vector<std::vector<ScanCluster>> seen(all.begin(), all.begin() + 7);
+        for (auto& scan : seen) {
+            ScanCluster& m = scan[1];
+            m.min_W = m.centroid_W - Vec3d(2.0, 1.0, 1.0);
+            m.max_W = m.centroid_W + Vec3d(2.0, 1.0, 1.0);
+        }
+        seen[6].pop_back();  // scan 6: only the static object
+        std::vector<const std::vector<ScanCluster>*> w;
+        for (const auto& scan : seen) w.push_back(&scan);
+        std::vector<TrackBox> boxes;
+        movingObjects(w, config, &boxes);
+        REQUIRE(boxes.size() == 1);
+        CHECK((boxes[0].min_W - Vec3d(1.2 * 6 - 2.0, -1.0, 0.0)).norm() < 1e-9);
+        CHECK((boxes[0].max_W - Vec3d(1.2 * 6 + 2.0, 1.0, 2.0)).norm() < 1e-9);
+    }
+    // Confirmed once only: not enough to make others moving.
+    for (int s = 1; s < scans; ++s) all[static_cast<std::size_t>(s)][1].confirmed = false;
+    std::vector<const std::vector<ScanCluster>*> window{&all[0], &all[1], &all[2]};
+    CHECK(movingObjects(window, config)[1] == 0);
+    // No tracking: each scan's own decision.
+    config.frames = 0;
+    CHECK(movingObjects(window, config) == std::vector<std::uint8_t>{0, 0});
+}
+
+TEST_CASE("A box driving ahead to the last frame is removed there too; a stopping box too",
+          "[dynamic][objects]") {
+    for (const int stop : {-1, 24}) {
+        test::DynamicSceneOptions o;
+        o.mover_stop_frame = stop;
+        INFO("mover stops at frame " << stop);
+        const std::vector<test::DynamicScan> scans = makeScans(o);
+        const fs::path dir = scratch("ahead" + std::to_string(stop));
+        test::writeDynamicDataset(dir, scans);
+        const auto dataset = openGeneric(dir);
+        DynamicRemovalConfig config;
+        config.use_labels = false;
+        const int last = o.frames - 1;
+        const Recall all = count(detectRange(*dataset, config, 0, last), scans, 0, 0, last);
+        const Flags flags = detectRange(*dataset, config, 0, last);
+        const Recall end = count(flags, scans, 0, last - 9, last);
+        config.objects.enabled = false;
+        const Recall points_only = count(detectRange(*dataset, config, 0, last), scans, 0, last - 9, last);
+        WARN("stop " << stop << ": recall " << all.recall() << ", last 10 frames " << end.recall()
+                     << " (points alone " << points_only.recall() << "), static removed "
+                     << all.static_removed << " / " << all.statics);
+        REQUIRE(end.mover > 1000);
+        CHECK(all.recall() >= 0.97);
+        CHECK(end.recall() >= 0.95);
+        CHECK(end.recall() >= points_only.recall());
+        CHECK(all.static_removed == 0);
+    }
+}
+
+TEST_CASE("The decision does not depend on the first scan of a run nor on the thread count",
+          "[dynamic][objects]") {
+    const test::DynamicSceneOptions o;
+    const std::vector<test::DynamicScan> scans = makeScans(o);
+    const fs::path dir = scratch("determinism");
+    test::writeDynamicDataset(dir, scans);
+    const auto dataset = openGeneric(dir);
+    DynamicRemovalConfig config;
+    const int last = o.frames - 1;
+    const Flags full = detectRange(*dataset, config, 0, last);
+    for (const int first : {5, 17, 25}) {
+        INFO("a run from frame " << first);
+        const Flags part = detectRange(*dataset, config, first, last);
+        for (int f = first; f <= last; ++f) {
+            CHECK(part.dynamic[static_cast<std::size_t>(f - first)] == full.dynamic[static_cast<std::size_t>(f)]);
+        }
+    }
+    tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    const Flags single = detectRange(*dataset, config, 0, last);
+    CHECK(single.dynamic == full.dynamic);
+}
