@@ -91,8 +91,8 @@ function glb( faces ) {
 		meshes: [ { primitives: [ {
 			attributes: { POSITION: 0, _FEATURE_ID_0: 1, _FEATURE_ID_1: 2 }, material: 0, mode: 4,
 			extensions: { EXT_mesh_features: { featureIds: [
-				{ featureCount: faces.length, attribute: 0, propertyTable: 1, label: 'face' },
-				{ featureCount: CLASSES.length, attribute: 1, propertyTable: 0, label: 'class' },
+				{ featureCount: faces.length, attribute: 0, propertyTable: 1, label: 'face_feature' },
+				{ featureCount: CLASSES.length, attribute: 1, propertyTable: 0, label: 'semantic_class' },
 			] } },
 		} ] } ],
 		accessors: [
@@ -146,7 +146,7 @@ const tileset = {
 	asset: { version: '1.1', generator: 'vdbmap tests/browser/make_fixture.mjs' },
 	geometricError: 40,
 	root: {
-		boundingVolume: box( 0, 0, 0, 20, 10, 0.5 ), geometricError: 2, refine: 'REPLACE',
+		boundingVolume: box( 0, 0, 0, 20, 10, 0.5 ), geometricError: 0.5, refine: 'REPLACE',
 		content: { uri: 'tiles/root.glb' },
 		children: [
 			{ boundingVolume: box( - 10, 0, 0, 10, 10, 0.5 ), geometricError: 0, content: { uri: 'tiles/leaf_0.glb' } },

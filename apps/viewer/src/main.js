@@ -382,7 +382,7 @@ window.viewer = {
 	},
 	pick,
 	/** Resolves once the root is loaded and nothing has been loading for `frames` frames. */
-	whenIdle( frames = 20, timeoutMs = 60000 ) {
+	whenIdle( frames = 5, timeoutMs = 60000 ) {
 
 		const start = performance.now();
 		return new Promise( ( resolve, reject ) => {

@@ -1,0 +1,115 @@
+// SPDX-License-Identifier: Apache-2.0
+// The viewer in a real browser (ctest LABEL browser; docs/viewer.md): `vdbmap view OUT` in
+// headless Debian chromium with software WebGL. Overview: waits until the tiles are loaded,
+// screenshot, not blank, only upper levels fetched. Close-up above the drive path in class
+// mode: leaves fetched, the pixel under the road has the road's colour from docs/DATA.md's
+// label table, and a click there reports the road with W coordinates near the path. No
+// console errors anywhere.
+// Usage: node viewer_test.mjs --vdbmap BIN --out OUT --data-md docs/DATA.md [--shots DIR] [--name NAME]
+import { mkdirSync, readFileSync } from 'node:fs';
+import { join } from 'node:path';
+import {
+	canvasStats, check, drivePathPoints, fail, fetchedContents, freshPage, launchChromium, startView, tilesetContents,
+} from './lib.mjs';
+
+const args = Object.fromEntries( process.argv.slice( 2 ).reduce( ( acc, a, i, all ) => {
+
+	if ( a.startsWith( '--' ) ) acc.push( [ a.slice( 2 ), all[ i + 1 ] ] );
+	return acc;
+
+}, [] ) );
+for ( const k of [ 'out', 'data-md' ] ) if ( ! args[ k ] ) fail( `missing --${ k }` );
+const name = args.name || 'run';
+const t0 = Date.now();
+
+/** The road's colour from docs/DATA.md's label table ("| 0 | road | 128 64 128 |"). */
+function roadColour( dataMd ) {
+
+	const m = readFileSync( dataMd, 'utf8' ).match( /\|\s*\d+\s*\|\s*road\s*\|\s*(\d+)\s+(\d+)\s+(\d+)\s*\|/ );
+	if ( ! m ) fail( `${ dataMd }: no road row in the label table` );
+	return m.slice( 1, 4 ).map( Number );
+
+}
+
+const ROAD = roadColour( args[ 'data-md' ] );
+const contents = tilesetContents( args.out );
+const leaves = [ ...contents ].filter( ( [ , c ] ) => c.leaf ).map( ( [ p ] ) => p );
+check( leaves.length > 0, `${ name }: the tileset has ${ contents.size } contents, ${ leaves.length } leaves` );
+const drive = JSON.parse( readFileSync( join( args.out, '3dtiles', 'drive_path.json' ), 'utf8' ) );
+
+// --url: a server already running (development); otherwise `vdbmap view` is started here.
+const server = args.url ? { url: args.url, process: { kill() {} } } : await startView( args.vdbmap, args.out );
+const browser = await launchChromium();
+let ok = false;
+try {
+
+	// ---- overview
+	{
+
+		const { page, log, context } = await freshPage( browser );
+		await page.goto( server.url, { waitUntil: 'load' } );
+		await page.waitForFunction( () => window.viewer && window.viewer.state.rootLoaded, { timeout: 30000 } );
+		const idle = await page.evaluate( () => window.viewer.whenIdle() );
+		const stats = await canvasStats( page );
+		if ( args.shots ) await page.screenshot( { path: join( args.shots, `viewer_${ name }_overview.jpg` ), type: 'jpeg', quality: 85 } );
+		check( stats.nonBackground > 0.05 && stats.distinctColours >= 3,
+			`${ name } overview is not blank: ${ ( 100 * stats.nonBackground ).toFixed( 1 )} % of pixels drawn, ${ stats.distinctColours } colours, ${ idle.loadedTiles } tiles loaded` );
+		const fetched = fetchedContents( log.requests, contents );
+		const fetchedLeaves = fetched.filter( p => contents.get( p ).leaf );
+		check( fetched.length > 0 && fetchedLeaves.length === 0,
+			`${ name } overview fetched only upper levels: ${ fetched.length } contents (depths ${ [ ...new Set( fetched.map( p => contents.get( p ).depth ) ) ].sort().join( ',' ) }), no leaf of ${ leaves.length }` );
+		check( log.errors.length === 0, `${ name } overview: no console errors${ log.errors.length ? ': ' + log.errors.join( ' | ' ) : '' }` );
+		await context.close();
+
+	}
+
+	// ---- close-up above the middle of the drive path, in class mode
+	{
+
+		const positions = drivePathPoints( drive );
+		const path = positions && positions.length ? positions : fail( `${ name }: drive_path.json has no positions` );
+		const p = path[ Math.floor( path.length / 2 ) ];
+		const target = [ p[ 0 ], p[ 1 ], p[ 2 ] - 1.7 ];
+		const cam = [ p[ 0 ], p[ 1 ] - 1.0, p[ 2 ] + 6 ];
+		const { page, log, context } = await freshPage( browser );
+		const query = `?mode=class&cam=${ cam.join( ',' ) }&target=${ target.join( ',' ) }`;
+		await page.goto( server.url + query, { waitUntil: 'load' } );
+		await page.waitForFunction( () => window.viewer && window.viewer.state.rootLoaded, { timeout: 30000 } );
+		await page.evaluate( () => window.viewer.whenIdle() );
+		const { width, height } = page.viewport();
+		const centre = [ Math.round( width / 2 ), Math.round( height / 2 ) ];
+		const stats = await canvasStats( page, [ centre ] );
+		if ( args.shots ) await page.screenshot( { path: join( args.shots, `viewer_${ name }_closeup_classes.jpg` ), type: 'jpeg', quality: 85 } );
+		check( stats.nonBackground > 0.5, `${ name } close-up is not blank: ${ ( 100 * stats.nonBackground ).toFixed( 1 ) } % drawn` );
+		const px = stats.pixels[ 0 ];
+		const diff = Math.max( ...px.map( ( v, i ) => Math.abs( v - ROAD[ i ] ) ) );
+		check( diff <= 8, `${ name } class mode: the pixel under the drive path is the road's colour ${ ROAD.join( ' ' ) } (got ${ px.join( ' ' ) })` );
+		const picked = await page.evaluate( ( x, y ) => window.viewer.pick( x, y ), centre[ 0 ], centre[ 1 ] );
+		check( picked && picked.name === 'road' && Math.hypot( picked.W[ 0 ] - p[ 0 ], picked.W[ 1 ] - p[ 1 ] ) < 3,
+			`${ name } click under the drive path: ${ JSON.stringify( picked ) }` );
+		const fetched = fetchedContents( log.requests, contents );
+		const fetchedLeaves = fetched.filter( q => contents.get( q ).leaf );
+		check( fetchedLeaves.length > 0, `${ name } close-up fetched leaves: ${ fetchedLeaves.length } of ${ fetched.length } contents` );
+		if ( args.shots ) {
+
+			await page.evaluate( () => window.viewer.setMode( 'texture' ) );
+			await new Promise( r => setTimeout( r, 300 ) );
+			await page.screenshot( { path: join( args.shots, `viewer_${ name }_closeup_textured.jpg` ), type: 'jpeg', quality: 85 } );
+			await page.evaluate( () => window.viewer.setMode( 'confidence' ) );
+			await new Promise( r => setTimeout( r, 300 ) );
+			await page.screenshot( { path: join( args.shots, `viewer_${ name }_closeup_confidence.jpg` ), type: 'jpeg', quality: 85 } );
+
+		}
+		check( log.errors.length === 0, `${ name } close-up: no console errors${ log.errors.length ? ': ' + log.errors.join( ' | ' ) : '' }` );
+		await context.close();
+
+	}
+	ok = true;
+
+} finally {
+
+	await browser.close();
+	server.process.kill( 'SIGTERM' );
+	console.log( `${ name }: ${ ok ? 'passed' : 'FAILED' } in ${ ( ( Date.now() - t0 ) / 1000 ).toFixed( 1 ) } s` );
+
+}
