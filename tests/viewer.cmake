@@ -1,9 +1,37 @@
 # SPDX-License-Identifier: Apache-2.0
-# `vdbmap view` (docs/viewer.md): the path resolver's unit test links the server library;
-# the browser tests (LABEL browser) need Debian's chromium and the npm registry.
+# `vdbmap view` (docs/viewer.md). The path resolver's and the CLI's unit tests link the
+# server library. The browser tests (LABEL browser) need Debian's chromium, node and the npm
+# registry (first run: `npm ci` of tests/browser/package-lock.json into the build folder);
+# they are left out of the sanitizer build (scripts/sanitize.sh: the server's code is
+# covered there by ViewCommandTest) and with -DVDBMAP_BROWSER_TESTS=OFF.
 if(TARGET ViewServedPathTest)
     target_link_libraries(ViewServedPathTest PRIVATE vdbmap_view_server)
 endif()
 if(TARGET ViewCommandTest)
     target_link_libraries(ViewCommandTest PRIVATE vdbmap_view_server)
+endif()
+
+option(VDBMAP_BROWSER_TESTS "Browser tests of the viewer (chromium, node, npm)" ON)
+if(VDBMAP_BROWSER_TESTS AND NOT VDBMAP_SANITIZE AND TARGET vdbmap_app)
+    set(_browser ${CMAKE_CURRENT_BINARY_DIR}/browser)
+    set(_vdbmap $<TARGET_FILE:vdbmap_app>)
+    set(_data_md ${PROJECT_SOURCE_DIR}/docs/DATA.md)
+    add_test(NAME browser_setup
+             COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/browser/setup.sh ${_browser})
+    set_tests_properties(browser_setup PROPERTIES FIXTURES_SETUP browser_npm TIMEOUT 600)
+
+    # A hand-made tileset (tests/browser/make_fixture.mjs): independent of the writer.
+    add_test(NAME browser_fixture_tileset
+             COMMAND node ${CMAKE_CURRENT_SOURCE_DIR}/browser/make_fixture.mjs ${_browser}/fixture)
+    set_tests_properties(browser_fixture_tileset PROPERTIES FIXTURES_SETUP browser_fixture)
+    add_test(NAME viewer_browser_fixture
+             COMMAND node ${_browser}/viewer_test.mjs --vdbmap ${_vdbmap} --out ${_browser}/fixture
+                     --data-md ${_data_md} --name fixture)
+    add_test(NAME cesium_browser_fixture
+             COMMAND node ${_browser}/cesium_test.mjs --vdbmap ${_vdbmap} --out ${_browser}/fixture
+                     --name fixture)
+    set_tests_properties(viewer_browser_fixture cesium_browser_fixture PROPERTIES
+                         FIXTURES_REQUIRED "browser_npm;browser_fixture" TIMEOUT 180)
+    set_tests_properties(browser_setup browser_fixture_tileset viewer_browser_fixture
+                         cesium_browser_fixture PROPERTIES LABELS "browser")
 endif()

@@ -350,6 +350,7 @@ function frame() {
 	scene.updateMatrixWorld();
 	tiles.update();
 	renderer.render( scene, camera );
+	state.renderedTriangles = renderer.info.render.triangles;
 	frames ++;
 	state.idleFrames = state.rootLoaded && loading() === 0 ? state.idleFrames + 1 : 0;
 	const now = performance.now();
