@@ -16,8 +16,14 @@ PACKAGES=(
     liblzf-dev
     openmpi-bin libopenmpi-dev
     pybind11-dev python3-dev python3-numpy python3-pytest python3-open3d xvfb xauth
+    libcpp-httplib-dev chromium
     "$@"
 )
+# The viewer's browser tests need node and npm: Debian's `npm` only when no npm is on PATH
+# (a NodeSource nodejs brings its own npm and conflicts with Debian's).
+if ! command -v npm > /dev/null 2>&1; then
+    PACKAGES+=(npm)
+fi
 
 missing=()
 for pkg in "${PACKAGES[@]}"; do
