@@ -11,8 +11,8 @@ namespace vdbmap::semantic {
 
 namespace {
 
-void checkSize(const TriMesh& mesh, const std::vector<std::uint8_t>& face_labels,
-               const char* who) {
+template <typename T>
+void checkSize(const TriMesh& mesh, const std::vector<T>& face_labels, const char* who) {
     if (face_labels.size() != mesh.n_faces()) {
         throw InvalidInput(std::string(who) + ": " + std::to_string(face_labels.size()) +
                            " face labels for a mesh of " + std::to_string(mesh.n_faces()) +
@@ -54,6 +54,17 @@ void setFaceLabelProperty(TriMesh& mesh, const std::vector<std::uint8_t>& face_l
     }
     for (const auto fh : mesh.faces()) {
         mesh.property(prop, fh) = face_labels[static_cast<std::size_t>(fh.idx())];
+    }
+}
+
+void setFaceConfidenceProperty(TriMesh& mesh, const std::vector<float>& confidence) {
+    checkSize(mesh, confidence, "setFaceConfidenceProperty");
+    OpenMesh::FPropHandleT<float> prop;
+    if (!mesh.get_property_handle(prop, kFaceLabelConfidenceProperty)) {
+        mesh.add_property(prop, kFaceLabelConfidenceProperty);
+    }
+    for (const auto fh : mesh.faces()) {
+        mesh.property(prop, fh) = confidence[static_cast<std::size_t>(fh.idx())];
     }
 }
 

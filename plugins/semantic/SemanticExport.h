@@ -28,6 +28,10 @@ std::map<std::uint8_t, ClassStats> classStatistics(const TriMesh& mesh,
 /// needed. Throws InvalidInput on a size mismatch.
 void setFaceLabelProperty(TriMesh& mesh, const std::vector<std::uint8_t>& face_labels);
 
+/// Stores the confidences as the float face property kFaceLabelConfidenceProperty, adding it
+/// if needed. Throws InvalidInput on a size mismatch.
+void setFaceConfidenceProperty(TriMesh& mesh, const std::vector<float>& confidence);
+
 /// `semantic/mesh.ply` (docs/DATA.md): binary PLY with face uchar label and red green blue from the
 /// label set's colours (black for 255), and float "confidence" if `confidence` is non-null.
 /// Atomic. Throws IoError / InvalidInput.

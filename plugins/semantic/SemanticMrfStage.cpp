@@ -289,6 +289,7 @@ void SemanticMrfStage::run(Context& ctx) {
         return fuse(wide.mesh(), dataset, opt_, wide_faces, s.votes, labels).face_labels;
     });
     setFaceLabelProperty(mesh, result.face_labels);
+    setFaceConfidenceProperty(mesh, result.confidence);
 
     step.reset();
     writeLabelledMesh(ctx, opt_, mesh, result, labels);

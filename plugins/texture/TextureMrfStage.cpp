@@ -2,6 +2,7 @@
 #include "TextureMrfStage.h"
 
 #include <algorithm>
+#include <array>
 #include <sstream>
 
 #include "ObjExport.h"
@@ -256,6 +257,31 @@ void setTextureLayer(TriMesh& tri_mesh, const TextureResult& result) {
         const std::uint32_t v = result.face_view[static_cast<std::size_t>(fh.idx())];
         tri_mesh.property(view_prop, fh) = v == kNoLabel ? -1 : static_cast<int>(v);
     }
+    // The texture itself (UVs, page, atlas) for later stages of the same tile (export.3dtiles):
+    // they need not read the textured OBJ back.
+    OpenMesh::FPropHandleT<std::array<float, 6>> uv_prop;
+    if (!tri_mesh.get_property_handle(uv_prop, kFaceTextureUvProperty)) {
+        tri_mesh.add_property(uv_prop, kFaceTextureUvProperty);
+    }
+    OpenMesh::FPropHandleT<int> page_prop;
+    if (!tri_mesh.get_property_handle(page_prop, kFaceTexturePageProperty)) {
+        tri_mesh.add_property(page_prop, kFaceTexturePageProperty);
+    }
+    for (const auto fh : tri_mesh.faces()) {
+        const auto f = static_cast<std::size_t>(fh.idx());
+        std::array<float, 6> uv{};
+        for (std::size_t k = 0; k < 3; ++k) {
+            uv[2 * k] = result.face_uvs[f][k].x();
+            uv[2 * k + 1] = result.face_uvs[f][k].y();
+        }
+        tri_mesh.property(uv_prop, fh) = uv;
+        tri_mesh.property(page_prop, fh) = static_cast<int>(result.face_page[f]);
+    }
+    OpenMesh::MPropHandleT<std::vector<cv::Mat>> atlas_prop;
+    if (!tri_mesh.get_property_handle(atlas_prop, kMeshTextureAtlasProperty)) {
+        tri_mesh.add_property(atlas_prop, kMeshTextureAtlasProperty);
+    }
+    tri_mesh.property(atlas_prop) = result.pages;  // shares the pixels (cv::Mat)
 }
 
 }  // namespace

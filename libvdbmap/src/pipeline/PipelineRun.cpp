@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <system_error>
+#include <tuple>
 
 #include "io/OutputLock.h"
 #include "pipeline/DatasetReport.h"
@@ -215,6 +216,14 @@ private:
         // A tiles.json of an earlier run in this folder must not outlive a failure of this one.
         std::error_code rm_ec;
         fs::remove(output_dir_ / "tiles.json", rm_ec);
+        // Run-level files of an earlier run (a stage's index of all tiles) must not outlive a
+        // failure of this one either.
+        Context begin_ctx(output_dir_, report_, quiet_);
+        for (PipelineStage& ps : p_.stages) {
+            current_ = std::string(ps.stage->name());
+            ps.stage->beginRun(begin_ctx);
+        }
+        current_ = "setup";
         if (tiledRun()) {
             startJournal();
         } else if (p_.resume) {
@@ -427,6 +436,7 @@ private:
         }
         if (distributed()) report_.setJson({"distributed", "process"}, processes.dump());
         if (!distributed()) detail::writePipelineOutputs(*ctx_, p_.output, report_);
+        finishStages(outcomes);
         if (stream_) {
             const std::string index =
                 tilesIndex(std::move(outcomes), summary, stream_->grid(), p_.tiling, report_);
@@ -436,6 +446,21 @@ private:
             if (p_.resume) reportResume(all);
             if (journal_) journal_->append({{"end", true}});
         }
+    }
+
+    /// Process 0: every stage's finishRun (run-level files from the per-tile outputs), after
+    /// every tile of every process is written and before tiles.json.
+    void finishStages(const std::vector<TileOutcome>& outcomes) {
+        std::vector<FinishedTile> tiles;
+        for (const TileOutcome& o : outcomes) tiles.push_back({o.name, o.ix, o.iy});
+        std::sort(tiles.begin(), tiles.end(), [](const FinishedTile& a, const FinishedTile& b) {
+            return std::tie(a.iy, a.ix) < std::tie(b.iy, b.ix);
+        });
+        for (PipelineStage& ps : p_.stages) {
+            current_ = std::string(ps.stage->name());
+            ps.stage->finishRun(*ctx_, tiles);  // the stage reports its own figures
+        }
+        current_ = "output";
     }
 
     /// report.json "resume": what the resumed run did with each tile, and why.

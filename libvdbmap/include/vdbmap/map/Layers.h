@@ -44,6 +44,17 @@ namespace vdbmap {
 inline constexpr const char* kFaceLabelProperty = "label";
 /// OpenMesh face property (int) that holds the view chosen to texture each face; -1 = none.
 inline constexpr const char* kFaceTextureViewProperty = "texture_view";
+/// OpenMesh face property (float) that holds the confidence of each face's class in [0, 1]
+/// (semantic.mrf).
+inline constexpr const char* kFaceLabelConfidenceProperty = "label_confidence";
+/// OpenMesh face property (std::array<float, 6>) that holds each face's texture coordinates,
+/// u v per corner in the face's vertex order, OBJ convention (v up); texture.mrf.
+inline constexpr const char* kFaceTextureUvProperty = "texture_uv";
+/// OpenMesh face property (int) that holds each face's atlas page (kFaceTextureUvProperty).
+inline constexpr const char* kFaceTexturePageProperty = "texture_page";
+/// OpenMesh mesh property (std::vector<cv::Mat>, CV_8UC3 BGR) that holds the atlas pages, so
+/// that later stages of the same tile need not read them back (texture.mrf).
+inline constexpr const char* kMeshTextureAtlasProperty = "texture_atlas";
 /// Class id for void / unknown (docs/DATA.md).
 inline constexpr unsigned char kUnknownLabel = 255;
 }  // namespace vdbmap
