@@ -43,6 +43,10 @@ echo "mesh:      $run_dir/mesh.ply"
 echo "textured:  $run_dir/textured/mesh.obj"
 echo "semantic:  $run_dir/semantic/mesh.ply and mesh.obj"
 echo "report:    $run_dir/report.json"
+if [ -f "$run_dir/3dtiles/tileset.json" ]; then
+    echo "3D Tiles:  $run_dir/3dtiles/tileset.json   (docs/viewer.md)"
+    echo "view it:   $build_dir/bin/vdbmap view $run_dir"
+fi
 if [ "$eval_status" -ne 0 ]; then
     echo "demo: vdbmap eval exited with $eval_status" >&2
     exit "$eval_status"

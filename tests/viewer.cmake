@@ -32,6 +32,29 @@ if(VDBMAP_BROWSER_TESTS AND NOT VDBMAP_SANITIZE AND TARGET vdbmap_app)
                      --name fixture)
     set_tests_properties(viewer_browser_fixture cesium_browser_fixture PROPERTIES
                          FIXTURES_REQUIRED "browser_npm;browser_fixture" TIMEOUT 180)
-    set_tests_properties(browser_setup browser_fixture_tileset viewer_browser_fixture
-                         cesium_browser_fixture PROPERTIES LABELS "browser")
+    set(_browser_tests browser_setup browser_fixture_tileset viewer_browser_fixture
+                       cesium_browser_fixture)
+
+    # A small simulated run through config/demo_street.yaml (which ends in export.3dtiles):
+    # the writer's real tileset, textured, meshopt-compressed, with levels of detail.
+    if(TARGET vdbmap_sim AND EXISTS ${PROJECT_SOURCE_DIR}/plugins/tiles3d/CMakeLists.txt)
+        set(_sim_seq ${_browser}/sim_seq)
+        set(_sim_run ${_browser}/sim_run)
+        add_test(NAME browser_sim_run
+                 COMMAND sh -c "rm -rf '${_sim_seq}' '${_sim_run}' && \
+'$<TARGET_FILE:vdbmap_sim>' street --frames 6 --seed 1 --gt-views 0 --quiet -o '${_sim_seq}' && \
+'${_vdbmap}' run '${PROJECT_SOURCE_DIR}/config/demo_street.yaml' --set dataset.path='${_sim_seq}' \
+-o '${_sim_run}' --quiet && test -s '${_sim_run}/3dtiles/tileset.json'")
+        set_tests_properties(browser_sim_run PROPERTIES FIXTURES_SETUP browser_sim TIMEOUT 300)
+        add_test(NAME viewer_browser_sim
+                 COMMAND node ${_browser}/viewer_test.mjs --vdbmap ${_vdbmap} --out ${_sim_run}
+                         --data-md ${_data_md} --name sim)
+        add_test(NAME cesium_browser_sim
+                 COMMAND node ${_browser}/cesium_test.mjs --vdbmap ${_vdbmap} --out ${_sim_run}
+                         --name sim)
+        set_tests_properties(viewer_browser_sim cesium_browser_sim PROPERTIES
+                             FIXTURES_REQUIRED "browser_npm;browser_sim" TIMEOUT 180)
+        list(APPEND _browser_tests browser_sim_run viewer_browser_sim cesium_browser_sim)
+    endif()
+    set_tests_properties(${_browser_tests} PROPERTIES LABELS "browser")
 endif()
