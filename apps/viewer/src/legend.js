@@ -1,18 +1,25 @@
 // SPDX-License-Identifier: Apache-2.0
 // The class legend: each class's colour (from the tiles' property tables) and area. The area
-// is the whole map's: from the tileset (extras.vdbmap.classes) when the writer puts it there,
+// is the whole map's: from the tileset (extras.classes: [{id, name, color, area_m2}] or
+// {"<id>": {name, area_m2}}) when the writer puts it there,
 // else from the run's report.json (stages.<semantic stage>.classes.<id>.area_m2).
 
 /** {classId -> {name, area_m2}} from a tileset.json object, or null. */
 export function areasFromTileset( tileset ) {
 
-	const classes = tileset && tileset.extras && tileset.extras.vdbmap && tileset.extras.vdbmap.classes;
+	const extras = tileset && tileset.extras;
+	const classes = extras && ( extras.classes || ( extras.vdbmap && extras.vdbmap.classes ) );
 	if ( ! classes ) return null;
 	const out = new Map();
 	const entries = Array.isArray( classes ) ? classes.map( c => [ c.id, c ] ) : Object.entries( classes );
 	for ( const [ id, c ] of entries ) {
 
-		if ( c && typeof c.area_m2 === 'number' ) out.set( Number( id ), { name: c.name || String( id ), area_m2: c.area_m2 } );
+		if ( c && typeof c.area_m2 === 'number' ) {
+
+			const rgb = Array.isArray( c.color || c.colour ) ? ( c.color || c.colour ).slice( 0, 3 ).map( Number ) : null;
+			out.set( Number( id ), { name: c.name || String( id ), area_m2: c.area_m2, rgb } );
+
+		}
 
 	}
 	return out.size ? out : null;
@@ -56,7 +63,7 @@ export function renderLegend( element, seen, areas ) {
 	const rows = [ ...ids ].map( id => ( {
 		id,
 		name: ( seen.get( id ) && seen.get( id ).name ) || ( areas && areas.get( id ) && areas.get( id ).name ) || `class ${ id }`,
-		rgb: seen.get( id ) ? seen.get( id ).rgb : null,
+		rgb: seen.get( id ) ? seen.get( id ).rgb : ( areas && areas.get( id ) && areas.get( id ).rgb ) || null,
 		area: areas && areas.get( id ) ? areas.get( id ).area_m2 : null,
 	} ) );
 	rows.sort( ( a, b ) => ( b.area ?? - 1 ) - ( a.area ?? - 1 ) || a.id - b.id );
