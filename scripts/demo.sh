@@ -26,7 +26,7 @@ eval_status=0
 echo
 echo "== vdbmap demo: outputs =="
 find "$run_dir" -maxdepth 2 -type f \( -name '*.vdb' -o -name '*.ply' -o -name '*.obj' \
-    -o -name '*.mtl' -o -name '*.png' -o -name '*.json' \) -printf '%p\t%s bytes\n' | sort
+    -o -name '*.mtl' -o -name '*.png' -o -name '*.json' -o -name '*.glb' \) -printf '%p\t%s bytes\n' | sort
 python3 - "$run_dir/report.json" <<'PY' || true
 import json, sys
 r = json.load(open(sys.argv[1]))
@@ -42,6 +42,8 @@ echo "map:       $run_dir/map.vdb   (vdbmap info $run_dir/map.vdb)"
 echo "mesh:      $run_dir/mesh.ply"
 echo "textured:  $run_dir/textured/mesh.obj"
 echo "semantic:  $run_dir/semantic/mesh.ply and mesh.obj"
+echo "3D Tiles:  $run_dir/3dtiles/tileset.json   (docs/tiles3d.md)"
+echo "view:      $build_dir/bin/vdbmap view $run_dir"
 echo "report:    $run_dir/report.json"
 if [ -f "$run_dir/3dtiles/tileset.json" ]; then
     echo "3D Tiles:  $run_dir/3dtiles/tileset.json   (docs/viewer.md)"

@@ -42,13 +42,13 @@ public:
     /// Once per run, before any stage runs, in the run's context (no dataset, map or mesh
     /// yet; process 0 only in a distributed run): remove run-level files an earlier run left
     /// (a stage's index of all tiles) so that a failed run never leaves a stale one.
-    virtual void beginRun(Context& ctx) {}
+    virtual void beginRun(Context& /*ctx*/) {}
     /// Once per run, after every stage ran (untiled) or every tile is finished and written
     /// (tiled), before tiles.json: write run-level files from the per-tile outputs (an index
     /// of all tiles, levels of detail). `tiles`: the finished tiles of all processes, sorted by
     /// (iy, ix); empty in an untiled run. Process 0 only in a distributed run (the other
     /// processes' tiles are on the shared output folder). Throws like run().
-    virtual void finishRun(Context& ctx, const std::vector<FinishedTile>& tiles) {}
+    virtual void finishRun(Context& /*ctx*/, const std::vector<FinishedTile>& /*tiles*/) {}
 
 protected:
     /// Throws vdbmap::Error("<stage>: <message>"): a runtime or input problem (exit code 1).

@@ -1,0 +1,42 @@
+# SPDX-License-Identifier: Apache-2.0
+"""Prints the figures of docs/benchmarks/tiles3d.md for the run folders given (bench/tiles3d.sh)."""
+import json
+import os
+import sys
+
+
+def sizes(run):
+    tiles3d = today = 0
+    for d, _, files in os.walk(run):
+        for f in files:
+            p = os.path.join(d, f)
+            n = os.path.getsize(p)
+            if "3dtiles" in p.split(os.sep):
+                tiles3d += n
+            elif f.endswith((".ply", ".obj", ".mtl", ".png")) and f != "dynamic_points.ply":
+                today += n
+    return tiles3d, today
+
+
+def main():
+    for run in sys.argv[1:]:
+        r = json.load(open(os.path.join(run, "report.json")))
+        st = r["stages"]["export.3dtiles"]
+        t3, today = sizes(run)
+        total = r["timings"]["total_s"]
+        if "tiles" in r:
+            writer = sum(t["stages"].get("export.3dtiles", {}).get("wall_time_s", 0) for t in r["tiles"].values())
+        else:
+            writer = st.get("wall_time_s", 0)
+        writer += st.get("finish_run_s", 0)
+        faces = st.get("leaf_faces", 0)
+        leaf_bytes = st.get("leaf_glb_bytes", 0)
+        print(f"== {run}")
+        print(f"3D Tiles bytes {t3}, PLY+OBJ+MTL+PNG bytes {today}, ratio {t3 / today:.3f}")
+        print(f"leaf faces {faces}, leaf GLB bytes {leaf_bytes}, bytes/face {leaf_bytes / max(1, faces):.1f}")
+        print(f"run {total:.1f} s, writer {writer:.2f} s = {100 * writer / total:.1f} %")
+        for lv in st.get("levels", []):
+            print(f"  level {lv['level']}: {lv['tiles']} tiles, {lv['faces']} faces, geometricError {lv['geometric_error_m']:.3f} m")
+
+
+main()

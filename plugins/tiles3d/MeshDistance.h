@@ -1,0 +1,44 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "vdbmap/core/Types.h"
+
+namespace vdbmap::tiles3d {
+
+using Triangle = std::array<Eigen::Vector3d, 3>;
+
+/// Nearest-triangle queries on a fixed set of triangles (a uniform grid of their boxes).
+class TriangleGrid {
+public:
+    explicit TriangleGrid(std::vector<Triangle> triangles);
+    /// Distance from `p` to the nearest triangle (exact point-triangle distance); +inf when
+    /// there are no triangles.
+    double distance(const Eigen::Vector3d& p) const;
+    std::size_t size() const { return triangles_.size(); }
+
+private:
+    std::int64_t key(int x, int y, int z) const;
+    std::vector<Triangle> triangles_;
+    Eigen::Vector3d origin_;
+    double cell_ = 1.0;
+    Eigen::Vector3i dims_;
+    std::vector<std::uint32_t> start_, items_;  // CSR: cell -> triangles
+};
+
+/// Distance from `p` to triangle `t` (Ericson, Real-Time Collision Detection 5.1.5).
+double pointTriangleDistance(const Eigen::Vector3d& p, const Triangle& t);
+
+/// An upper bound on the one-sided Hausdorff distance max_{a in A} min_{b in B} |a - b| from
+/// the surface of `a` to the surface of `b`, within `tolerance_m` of the true value:
+/// distance-to-B is 1-Lipschitz, so over a triangle it is at most its largest corner value plus
+/// the triangle's covering radius (<= longest edge / sqrt 3); triangles whose bound exceeds the
+/// best lower bound found so far by more than the tolerance are split in four (branch and
+/// bound). `samples` (if given) receives the number of distance queries.
+double hausdorffBound(const std::vector<Triangle>& a, const TriangleGrid& b, double tolerance_m,
+                      std::size_t* samples = nullptr);
+
+}  // namespace vdbmap::tiles3d

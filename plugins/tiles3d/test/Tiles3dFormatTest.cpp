@@ -1,0 +1,233 @@
+// SPDX-License-Identifier: Apache-2.0
+// The 3D Tiles writer's formats (issue 34): a GLB reads back to exactly the faces, classes,
+// confidences, texture coordinates and (PNG) pixels written, with and without meshopt; a known
+// point of W lands where it belongs through glTF's y-up and the tileset's z-up (the 3D Tiles
+// rule, applied here independently of the reader); a parent's corners are its children's, and
+// its measured error bounds its distance to the full mesh (dense brute-force oracle); the
+// geo-reference puts W's origin on the WGS84 ellipsoid.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <random>
+#include <set>
+
+#include <nlohmann/json.hpp>
+
+#include "Glb.h"
+#include "Lod.h"
+#include "MeshDistance.h"
+#include "Tileset.h"
+
+using namespace vdbmap::tiles3d;
+using json = nlohmann::json;
+
+namespace {
+
+std::vector<ClassInfo> classTable() {
+    return {{0, "road", {128, 64, 128}}, {1, "sidewalk", {244, 35, 232}}, {255, "unknown", {0, 0, 0}}};
+}
+
+/// A height field z = h(x, y) over [x0, x0 + size] x [y0, y0 + size], step `step`, each
+/// triangle textured from a 64x64 page, classes by position.
+TileMesh terrain(double x0, double y0, double size, double step, int pages, double height_amp = 0.3) {
+    TileMesh m;
+    m.origin_W = Eigen::Vector3d(std::round(x0 + size / 2), std::round(y0 + size / 2), 0);
+    const int n = static_cast<int>(std::round(size / step));
+    auto h = [&](double x, double y) { return height_amp * std::sin(0.7 * x) * std::cos(0.5 * y); };
+    for (int p = 0; p < pages; ++p) {
+        cv::Mat page(64, 64, CV_8UC3);
+        for (int r = 0; r < 64; ++r)
+            for (int c = 0; c < 64; ++c) page.at<cv::Vec3b>(r, c) = cv::Vec3b(uchar(r * 4), uchar(c * 4), uchar(p * 60));
+        m.pages.push_back(page);
+    }
+    for (int i = 0; i < n; ++i) {
+        for (int j = 0; j < n; ++j) {
+            const double xa = x0 + i * step, xb = xa + step, ya = y0 + j * step, yb = ya + step;
+            const Eigen::Vector3d q[4] = {{xa, ya, h(xa, ya)}, {xb, ya, h(xb, ya)}, {xb, yb, h(xb, yb)}, {xa, yb, h(xa, yb)}};
+            const int tri[2][3] = {{0, 1, 2}, {0, 2, 3}};
+            for (const auto& t : tri) {
+                std::array<Eigen::Vector3f, 3> c;
+                std::array<Eigen::Vector2f, 3> uv;
+                for (int k = 0; k < 3; ++k) {
+                    c[static_cast<std::size_t>(k)] = (q[t[k]] - m.origin_W).cast<float>();
+                    uv[static_cast<std::size_t>(k)] = Eigen::Vector2f(float((q[t[k]].x() - x0) / size), float((q[t[k]].y() - y0) / size));
+                }
+                m.corners.push_back(c);
+                m.uvs.push_back(uv);
+                const std::size_t f = m.corners.size() - 1;
+                m.page.push_back(pages == 0 ? kNoPage : static_cast<std::uint32_t>(f % static_cast<std::size_t>(pages)));
+                m.label.push_back(i < n / 2 ? 0 : (j < n / 3 ? 1 : 255));
+                m.confidence.push_back(float(f % 97) / 97.0f);
+            }
+        }
+    }
+    if (pages == 0) m.uvs.clear();
+    return m;
+}
+
+void requireSame(const TileMesh& a, const TileMesh& b, bool pixels) {
+    REQUIRE(a.faces() == b.faces());
+    REQUIRE(a.origin_W == b.origin_W);
+    REQUIRE(a.pages.size() == b.pages.size());
+    for (std::size_t f = 0; f < a.faces(); ++f) {
+        for (std::size_t k = 0; k < 3; ++k) {
+            REQUIRE(a.corners[f][k] == b.corners[f][k]);
+            if (!a.uvs.empty() && a.page[f] != kNoPage) REQUIRE(a.uvs[f][k] == b.uvs[f][k]);
+        }
+        REQUIRE(a.label[f] == b.label[f]);
+        REQUIRE(a.confidence[f] == b.confidence[f]);
+        REQUIRE(a.page[f] == b.page[f]);
+    }
+    if (pixels) {
+        for (std::size_t p = 0; p < a.pages.size(); ++p) REQUIRE(cv::norm(a.pages[p], b.pages[p], cv::NORM_INF) == 0);
+    }
+}
+
+std::uint32_t u32(const std::string& s, std::size_t at) {
+    std::uint32_t v;
+    std::memcpy(&v, s.data() + at, 4);
+    return v;
+}
+
+}  // namespace
+
+TEST_CASE("A GLB reads back to exactly what was written", "[tiles3d]") {
+    TileMesh m = terrain(100, -50, 4, 0.25, 2);
+    m.page[3] = kNoPage;  // one untextured face: a primitive of its own
+    for (const bool meshopt : {true, false}) {
+        GlbOptions o;
+        o.jpeg = false;
+        o.meshopt = meshopt;
+        const std::string glb = writeGlb(m, classTable(), o);
+        GlbInfo info;
+        const TileMesh back = readGlb(glb, "test.glb", &info);
+        requireSame(m, back, true);
+        CHECK(info.meshopt == meshopt);
+        REQUIRE(info.classes.size() == 3);
+        CHECK(info.classes[1].name == "sidewalk");
+        CHECK(info.classes[1].rgb == std::array<std::uint8_t, 3>{244, 35, 232});
+        CHECK(writeGlb(m, classTable(), o) == glb);  // deterministic
+    }
+    // JPEG: the geometry exact, the pixels close.
+    GlbOptions jpeg;
+    const TileMesh back = readGlb(writeGlb(m, classTable(), jpeg), "jpeg.glb");
+    requireSame(m, back, false);
+    CHECK(cv::norm(m.pages[0], back.pages[0], cv::NORM_L1) / double(m.pages[0].total() * 3) < 4.0);
+    // A class outside the table is an error naming the face.
+    m.label[5] = 7;
+    CHECK_THROWS_WITH(writeGlb(m, classTable(), jpeg), Catch::Contains("face 5 has class 7"));
+}
+
+TEST_CASE("A known point of W lands where it belongs (glTF y-up, tileset z-up)", "[tiles3d]") {
+    TileMesh m;
+    const Eigen::Vector3d p_W(1234.25, -2345.5, 31.125);
+    m.origin_W = Eigen::Vector3d(1230, -2340, 30);
+    m.corners.push_back({(p_W - m.origin_W).cast<float>(), Eigen::Vector3f(1, 0, 0), Eigen::Vector3f(0, 1, 0)});
+    m.label = {0};
+    m.confidence = {1.0f};
+    m.page = {kNoPage};
+    GlbOptions o;
+    o.meshopt = false;
+    const std::string glb = writeGlb(m, classTable(), o);
+    // Read the raw glTF: node translation + first POSITION, in glTF axes.
+    const json g = json::parse(glb.substr(20, u32(glb, 12)));
+    const std::string bin = glb.substr(20 + u32(glb, 12) + 8);
+    const json& acc = g["accessors"][g["meshes"][0]["primitives"][0]["attributes"]["POSITION"].get<int>()];
+    const json& view = g["bufferViews"][acc["bufferView"].get<int>()];
+    float pos[3];
+    std::memcpy(pos, bin.data() + view.value("byteOffset", 0) + acc.value("byteOffset", 0), 12);
+    const auto t = g["nodes"][0]["translation"].get<std::vector<double>>();
+    const Eigen::Vector3d gltf(t[0] + pos[0], t[1] + pos[1], t[2] + pos[2]);
+    // 3D Tiles: glTF y-up -> z-up by the fixed rotation (x, y, z) -> (x, -z, y).
+    Eigen::Matrix3d y_up_to_z_up;
+    y_up_to_z_up << 1, 0, 0, 0, 0, -1, 0, 1, 0;
+    const Eigen::Vector3d tileset_frame = y_up_to_z_up * gltf;
+    // Root transform of a z-up W without geo-reference: identity.
+    const Eigen::Matrix4d root = rootTransform(Georef{}, 2);
+    CHECK(root.isIdentity(0));
+    CHECK((tileset_frame - p_W).norm() < 1e-4);
+    // A y-up W (KITTI's camera frame): the root transform turns W's y into the tileset's z.
+    const Eigen::Matrix4d root_y = rootTransform(Georef{}, 1);
+    CHECK((root_y.topLeftCorner<3, 3>() * Eigen::Vector3d::UnitY() - Eigen::Vector3d::UnitZ()).norm() < 1e-12);
+    CHECK(std::abs(root_y.topLeftCorner<3, 3>().determinant() - 1) < 1e-12);
+}
+
+TEST_CASE("The geo-reference puts W's origin on the ellipsoid, W's axes east/north/up", "[tiles3d]") {
+    // Closed forms: the equator at longitude 0 is (a, 0, 0); the north pole is (0, 0, b).
+    CHECK((ecefFromGeodetic(0, 0, 0) - Eigen::Vector3d(6378137.0, 0, 0)).norm() < 1e-6);
+    CHECK((ecefFromGeodetic(90, 0, 0) - Eigen::Vector3d(0, 0, 6356752.314245)).norm() < 1e-3);
+    CHECK((ecefFromGeodetic(0, 90, 100) - Eigen::Vector3d(0, 6378237.0, 0)).norm() < 1e-6);
+    Georef g;
+    g.enabled = true;
+    g.latitude_deg = 48.0;
+    g.longitude_deg = 11.0;
+    g.altitude_m = 500;
+    const Eigen::Matrix4d T = rootTransform(g, 2);
+    const Eigen::Vector3d origin = T.topRightCorner<3, 1>();
+    CHECK((origin - ecefFromGeodetic(48, 11, 500)).norm() < 1e-6);
+    // W's z is the ellipsoid normal; 10 m up along z is 10 m higher.
+    const Eigen::Vector3d up = (T * Eigen::Vector4d(0, 0, 10, 1)).head<3>();
+    CHECK((up - ecefFromGeodetic(48, 11, 510)).norm() < 1e-6);
+    // Heading 90: W's y points east, so W's x points south.
+    g.heading_deg = 90;
+    const Eigen::Matrix4d H = rootTransform(g, 2);
+    const Eigen::Vector3d east(-std::sin(11 * M_PI / 180), std::cos(11 * M_PI / 180), 0);
+    CHECK((H.topLeftCorner<3, 3>() * Eigen::Vector3d::UnitY() - east).norm() < 1e-12);
+}
+
+TEST_CASE("A parent's corners are its children's; its measured error bounds its distance to them",
+          "[tiles3d]") {
+    const TileMesh a = terrain(0, 0, 4, 0.1, 1, 0.5), b = terrain(4, 0, 4, 0.1, 1, 0.5);
+    ParentOptions po;
+    po.level = 1;
+    po.voxel_size_m = 0.1;
+    ParentFigures fig;
+    const TileMesh p = buildParent({&a, &b}, po, &fig);
+    CHECK(fig.merged_faces == a.faces() + b.faces());
+    CHECK(p.faces() < fig.merged_faces / 2);
+    CHECK(p.faces() > 0);
+    REQUIRE(p.pages.size() == 1);
+    CHECK(p.pages[0].cols <= 70);  // two 64-px pages halved side by side
+    std::set<std::array<long long, 3>> child_corners;
+    auto key = [](const Eigen::Vector3d& v) {
+        return std::array<long long, 3>{std::llround(v.x() * 1e4), std::llround(v.y() * 1e4), std::llround(v.z() * 1e4)};
+    };
+    for (const TileMesh* c : {&a, &b})
+        for (std::size_t f = 0; f < c->faces(); ++f)
+            for (int k = 0; k < 3; ++k) child_corners.insert(key(c->cornerW(f, k)));
+    for (std::size_t f = 0; f < p.faces(); ++f)
+        for (int k = 0; k < 3; ++k) REQUIRE(child_corners.count(key(p.cornerW(f, k))) == 1);
+
+    std::vector<Triangle> full;
+    for (const TileMesh* c : {&a, &b})
+        for (const auto& t : trianglesW(*c)) full.push_back(t);
+    const TriangleGrid grid(full);
+    const double bound = hausdorffBound(trianglesW(p), grid, 0.01);
+    // Oracle: dense random points on the parent, brute force over every full-res triangle.
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(0, 1);
+    double worst = 0;
+    const auto parent = trianglesW(p);
+    for (int s = 0; s < 4000; ++s) {
+        const Triangle& t = parent[rng() % parent.size()];
+        double r1 = u(rng), r2 = u(rng);
+        if (r1 + r2 > 1) { r1 = 1 - r1; r2 = 1 - r2; }
+        const Eigen::Vector3d q = t[0] + r1 * (t[1] - t[0]) + r2 * (t[2] - t[0]);
+        double best = 1e300;
+        for (const Triangle& f : full) best = std::min(best, pointTriangleDistance(q, f));
+        CHECK(std::abs(grid.distance(q) - best) < 1e-9);  // the grid query is exact
+        worst = std::max(worst, best);
+    }
+    CHECK(worst <= bound);
+    CHECK(bound < worst + 0.05);  // and not loose
+    CHECK(bound > 0);
+}
+
+TEST_CASE("Point-triangle distance: closed forms", "[tiles3d]") {
+    const Triangle t{Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 1, 0)};
+    CHECK(pointTriangleDistance({0.2, 0.2, 3}, t) == Approx(3));
+    CHECK(pointTriangleDistance({-1, 0, 0}, t) == Approx(1));
+    CHECK(pointTriangleDistance({1, 1, 0}, t) == Approx(std::sqrt(0.5)));
+    CHECK(pointTriangleDistance({0.5, -2, 0}, t) == Approx(2));
+}
