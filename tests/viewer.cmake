@@ -35,15 +35,16 @@ if(VDBMAP_BROWSER_TESTS AND NOT VDBMAP_SANITIZE AND TARGET vdbmap_app)
     set(_browser_tests browser_setup browser_fixture_tileset viewer_browser_fixture
                        cesium_browser_fixture)
 
-    # A small simulated run through config/demo_street.yaml (which ends in export.3dtiles):
-    # the writer's real tileset, textured, meshopt-compressed, with levels of detail.
+    # A small simulated run through tests/browser/tiled_street.yaml (the demo pipeline, tiled,
+    # ending in export.3dtiles): the writer's real tileset, textured, meshopt-compressed, with
+    # levels of detail above several leaves.
     if(TARGET vdbmap_sim AND EXISTS ${PROJECT_SOURCE_DIR}/plugins/tiles3d/CMakeLists.txt)
         set(_sim_seq ${_browser}/sim_seq)
         set(_sim_run ${_browser}/sim_run)
         add_test(NAME browser_sim_run
                  COMMAND sh -c "rm -rf '${_sim_seq}' '${_sim_run}' && \
-'$<TARGET_FILE:vdbmap_sim>' street --frames 6 --seed 1 --gt-views 0 --quiet -o '${_sim_seq}' && \
-'${_vdbmap}' run '${PROJECT_SOURCE_DIR}/config/demo_street.yaml' --set dataset.path='${_sim_seq}' \
+'$<TARGET_FILE:vdbmap_sim>' street --frames 6 --size 40 --seed 1 --gt-views 0 --quiet -o '${_sim_seq}' && \
+'${_vdbmap}' run '${CMAKE_CURRENT_SOURCE_DIR}/browser/tiled_street.yaml' --set dataset.path='${_sim_seq}' \
 -o '${_sim_run}' --quiet && test -s '${_sim_run}/3dtiles/tileset.json'")
         set_tests_properties(browser_sim_run PROPERTIES FIXTURES_SETUP browser_sim TIMEOUT 300)
         add_test(NAME viewer_browser_sim
