@@ -201,4 +201,30 @@ export function drivePathPoints( json ) {
 
 }
 
+/**
+ * W's up axis [x, y, z] for a tileset.json object: the W direction its root transform T turns
+ * onto the tileset's up (+z; for a geo-referenced T, the direction of T's origin from the
+ * Earth's centre); without T: extras.up_axis (0/1/2 or 'x'/'y'/'z'), else z.
+ */
+export function upAxisW( tileset ) {
+
+	const e = tileset.root && tileset.root.transform;
+	if ( e ) {
+
+		const t = [ e[ 12 ], e[ 13 ], e[ 14 ] ];
+		const len = Math.hypot( ...t );
+		const up = len > 1e5 ? t.map( x => x / len ) : [ 0, 0, 1 ];
+		const w = [ 0, 1, 2 ].map( k => e[ 4 * k ] * up[ 0 ] + e[ 4 * k + 1 ] * up[ 1 ] + e[ 4 * k + 2 ] * up[ 2 ] );
+		const n = Math.hypot( ...w );
+		if ( n > 1e-6 ) return w.map( x => x / n );
+
+	}
+	const named = tileset.extras ? tileset.extras.up_axis : undefined;
+	const k = typeof named === 'number' ? named : ( { x: 0, y: 1, z: 2 } )[ String( named ).toLowerCase() ];
+	const up = [ 0, 0, 0 ];
+	up[ k === 0 || k === 1 ? k : 2 ] = 1;
+	return up;
+
+}
+
 export const here = dirname( new URL( import.meta.url ).pathname );

@@ -8,6 +8,20 @@ import { BufferAttribute, Color, SRGBColorSpace } from 'three';
 
 const _color = new Color();
 
+/** [a, b, c] from an array, a typed array or a three.js Vector3/Color (a VEC3 property), else null. */
+function triple( value ) {
+
+	if ( ( Array.isArray( value ) || ArrayBuffer.isView( value ) ) && value.length >= 3 ) return Array.from( value ).slice( 0, 3 ).map( Number );
+	if ( value && typeof value === 'object' ) {
+
+		if ( 'x' in value && 'y' in value && 'z' in value ) return [ value.x, value.y, value.z ].map( Number );
+		if ( 'r' in value && 'g' in value && 'b' in value ) return [ value.r, value.g, value.b ].map( Number );
+
+	}
+	return null;
+
+}
+
 /** A record {classId, name, rgb:[r,g,b] 0..255, confidence 0..1} from a property-table row. */
 export function interpretRow( row ) {
 
@@ -21,9 +35,9 @@ export function interpretRow( row ) {
 
 			out.confidence = value > 1 ? value / 255 : value;
 
-		} else if ( /colou?r|rgb/.test( k ) && value.length >= 3 ) {
+		} else if ( /colou?r|rgb/.test( k ) && triple( value ) ) {
 
-			const v = Array.from( value ).slice( 0, 3 ).map( Number );
+			const v = triple( value );
 			const scale = v.some( x => x > 1 ) || v.every( Number.isInteger ) ? 1 : 255; // uint8 or 0..1 floats
 			out.rgb = v.map( x => Math.round( x * scale ) );
 

@@ -20,7 +20,7 @@ const OUT = params.get( 'out' ) || '/out';
 const TILESET_URL = `${ OUT }/3dtiles/tileset.json`;
 const $ = id => document.getElementById( id );
 
-// ---- scene: W (z-up, metres) is shown y-up by one rotation; tiles and the path live in W.
+// ---- scene: W (metres) is shown with its up axis along three's +y; tiles and the path live in W.
 const renderer = new WebGLRenderer( { antialias: false, preserveDrawingBuffer: true } );
 renderer.setPixelRatio( window.devicePixelRatio );
 renderer.setSize( window.innerWidth, window.innerHeight );
@@ -34,7 +34,6 @@ scene.add( sun );
 const camera = new PerspectiveCamera( 60, window.innerWidth / window.innerHeight, 0.1, 1e5 );
 const wFrame = new Group();
 wFrame.name = 'W';
-wFrame.rotation.x = - Math.PI / 2;
 scene.add( wFrame );
 
 const tiles = new TilesRenderer( TILESET_URL );
@@ -149,16 +148,46 @@ tiles.addEventListener( 'load-error', ( e ) => {
 	console.error( message );
 
 } );
-tiles.addEventListener( 'load-root-tileset', () => {
+/**
+ * W's up axis as a unit vector in W, from the root transform T (W -> tileset frame): the W
+ * direction that T turns onto the tileset's up, which is +z (3D Tiles is z-up) or, for a
+ * geo-referenced T (W -> ECEF, a large translation), the direction of T's origin from the
+ * Earth's centre. Without a root transform: extras.up_axis (0/1/2 or 'x'/'y'/'z'), else z.
+ */
+function upAxisW( tileset, rootTransform ) {
+
+	if ( rootTransform ) {
+
+		const e = rootTransform.elements; // column-major
+		const t = new Vector3( e[ 12 ], e[ 13 ], e[ 14 ] );
+		const up = t.length() > 1e5 ? t.normalize() : new Vector3( 0, 0, 1 );
+		const w = new Vector3(
+			e[ 0 ] * up.x + e[ 1 ] * up.y + e[ 2 ] * up.z,
+			e[ 4 ] * up.x + e[ 5 ] * up.y + e[ 6 ] * up.z,
+			e[ 8 ] * up.x + e[ 9 ] * up.y + e[ 10 ] * up.z );
+		if ( w.lengthSq() > 1e-12 ) return w.normalize();
+
+	}
+	const named = tileset && tileset.extras ? tileset.extras.up_axis : undefined;
+	const index = typeof named === 'number' ? named : ( { x: 0, y: 1, z: 2 } )[ String( named ).toLowerCase() ];
+	return new Vector3().setComponent( index === 0 || index === 1 ? index : 2, 1 );
+
+}
+
+tiles.addEventListener( 'load-root-tileset', ( { tileset } ) => {
 
 	const root = tiles.root;
-	// A geo-referenced tileset's root transform (W -> ECEF) is undone: the scene stays in W.
-	if ( root && root.engineData && root.engineData.transform ) {
+	const rootTransform = root && root.engineData && root.engineData.transform ? root.engineData.transform : null;
+	// The root transform (W -> the tileset's z-up frame, or W -> ECEF when geo-referenced) is
+	// undone, and W's up axis is turned to three.js's +y: the scene is W, shown upright.
+	if ( rootTransform ) {
 
-		tiles.group.matrix.copy( root.engineData.transform ).invert();
+		tiles.group.matrix.copy( rootTransform ).invert();
 		tiles.group.matrixAutoUpdate = false;
 
 	}
+	state.upW = upAxisW( tileset, rootTransform );
+	wFrame.quaternion.setFromUnitVectors( state.upW, new Vector3( 0, 1, 0 ) );
 	scene.updateMatrixWorld( true );
 	tiles.getBoundingSphere( state.sphere );
 	state.sphere.applyMatrix4( tiles.group.matrixWorld );
