@@ -58,6 +58,13 @@ try {
 		const fetchedLeaves = fetched.filter( p => contents.get( p ).leaf );
 		check( fetched.length > 0 && fetchedLeaves.length === 0,
 			`${ name } overview fetched only upper levels: ${ fetched.length } contents (depths ${ [ ...new Set( fetched.map( p => contents.get( p ).depth ) ) ].sort().join( ',' ) }), no leaf of ${ leaves.length }` );
+		if ( args.shots ) {
+
+			await page.evaluate( () => window.viewer.setMode( 'class' ) );
+			await new Promise( r => setTimeout( r, 500 ) );
+			await page.screenshot( { path: join( args.shots, `viewer_${ name }_overview_classes.jpg` ), type: 'jpeg', quality: 85 } );
+
+		}
 		check( log.errors.length === 0, `${ name } overview: no console errors${ log.errors.length ? ': ' + log.errors.join( ' | ' ) : '' }` );
 		await context.close();
 

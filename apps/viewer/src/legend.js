@@ -59,7 +59,8 @@ function formatArea( m2 ) {
 /** Renders the legend into `element`: colours from `seen` (id -> {name, rgb}), areas from `areas`. */
 export function renderLegend( element, seen, areas ) {
 
-	const ids = new Set( [ ...seen.keys(), ...( areas ? areas.keys() : [] ) ] );
+	// Classes in the loaded tiles, and those with an area in the map (not the label set's unused ones).
+	const ids = new Set( [ ...seen.keys(), ...( areas ? [ ...areas ].filter( ( [ , a ] ) => a.area_m2 > 0 ).map( ( [ id ] ) => id ) : [] ) ] );
 	const rows = [ ...ids ].map( id => ( {
 		id,
 		name: ( seen.get( id ) && seen.get( id ).name ) || ( areas && areas.get( id ) && areas.get( id ).name ) || `class ${ id }`,

@@ -3,7 +3,7 @@
 // `vdbmap view OUT` (tileset at /out/3dtiles/tileset.json). Bundled by build.mjs into
 // dist/viewer.js; nothing is fetched from outside the server.
 import {
-	Clock, Color, DoubleSide, DirectionalLight, Group, HemisphereLight, MeshBasicMaterial,
+	Clock, Color, DoubleSide, Group, MeshBasicMaterial,
 	PerspectiveCamera, Raycaster, Scene, Sphere, Vector2, Vector3, WebGLRenderer,
 } from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
@@ -27,10 +27,6 @@ renderer.setSize( window.innerWidth, window.innerHeight );
 $( 'view' ).append( renderer.domElement );
 const scene = new Scene();
 scene.background = new Color( 0x20252b );
-scene.add( new HemisphereLight( 0xffffff, 0x444444, 2.0 ) );
-const sun = new DirectionalLight( 0xffffff, 1.5 );
-sun.position.set( 1, 3, 2 );
-scene.add( sun );
 const camera = new PerspectiveCamera( 60, window.innerWidth / window.innerHeight, 0.1, 1e5 );
 const wFrame = new Group();
 wFrame.name = 'W';
@@ -110,7 +106,10 @@ tiles.addEventListener( 'load-model', ( { scene: tileScene } ) => {
 	tileScene.traverse( o => {
 
 		if ( ! o.isMesh ) return;
-		o.userData.vdbmapMaterial = o.material;
+		// Textured mode is unlit: the atlas holds the camera's colours, already lit by the sun.
+		const m = o.material;
+		o.userData.vdbmapMaterial = new MeshBasicMaterial( { map: m.map || null, color: m.map ? 0xffffff : m.color, side: DoubleSide } );
+		m.dispose();
 		o.userData.vdbmapColor = o.geometry.getAttribute( 'color' ) || null;
 		const data = featureColours( o );
 		if ( data ) {
@@ -135,9 +134,21 @@ tiles.addEventListener( 'load-model', ( { scene: tileScene } ) => {
 	} );
 
 } );
-tiles.addEventListener( 'dispose-model', () => {
+tiles.addEventListener( 'dispose-model', ( { scene: tileScene } ) => {
 
 	state.loadedTiles --;
+	// The renderer disposes the materials in use; the textured one may be swapped out.
+	tileScene.traverse( o => {
+
+		const m = o.isMesh ? o.userData.vdbmapMaterial : null;
+		if ( m && m !== o.material ) {
+
+			if ( m.map ) m.map.dispose();
+			m.dispose();
+
+		}
+
+	} );
 
 } );
 tiles.addEventListener( 'load-error', ( e ) => {
@@ -217,7 +228,7 @@ function overview() {
 
 	const { center, radius } = state.sphere;
 	const distance = 1.05 * radius / Math.sin( ( camera.fov * Math.PI / 180 ) / 2 );
-	const dir = new Vector3( 0, 1, 0.55 ).normalize();
+	const dir = new Vector3( 0.45, 0.8, 0.55 ).normalize();
 	setView( center.clone().addScaledVector( dir, distance ), center.clone() );
 
 }
