@@ -27,13 +27,9 @@ if(VDBMAP_BROWSER_TESTS AND NOT VDBMAP_SANITIZE AND TARGET vdbmap_app)
     add_test(NAME viewer_browser_fixture
              COMMAND node ${_browser}/viewer_test.mjs --vdbmap ${_vdbmap} --out ${_browser}/fixture
                      --data-md ${_data_md} --name fixture)
-    add_test(NAME cesium_browser_fixture
-             COMMAND node ${_browser}/cesium_test.mjs --vdbmap ${_vdbmap} --out ${_browser}/fixture
-                     --name fixture)
-    set_tests_properties(viewer_browser_fixture cesium_browser_fixture PROPERTIES
+    set_tests_properties(viewer_browser_fixture PROPERTIES
                          FIXTURES_REQUIRED "browser_npm;browser_fixture" TIMEOUT 180)
-    set(_browser_tests browser_setup browser_fixture_tileset viewer_browser_fixture
-                       cesium_browser_fixture)
+    set(_browser_tests browser_setup browser_fixture_tileset viewer_browser_fixture)
 
     # A small simulated run through tests/browser/tiled_street.yaml (the demo pipeline, tiled,
     # ending in export.3dtiles): the writer's real tileset, textured, meshopt-compressed, with

@@ -54,7 +54,7 @@ const browser = await launchChromium();
 let ok = false;
 try {
 
-	const { page, log, context } = await freshPage( browser );
+	const { page, log, context } = await freshPage( browser, 800, 500 ); // small: SwiftShader's time is per pixel
 	await page.setRequestInterception( true );
 	page.on( 'request', request => {
 
