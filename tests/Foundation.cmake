@@ -16,7 +16,7 @@ endforeach()
 # StageRegistryTest and ConfigFilesTest load every in-tree plugin this build has, and fail
 # when one of them does not load (support/BuiltPlugins.h).
 set(_vdbmap_built_plugins "")
-foreach(plugin texture semantic cgal)
+foreach(plugin texture semantic tiles3d cgal)
     if(TARGET vdbmap_plugin_${plugin})
         list(APPEND _vdbmap_built_plugins ${plugin})
     endif()

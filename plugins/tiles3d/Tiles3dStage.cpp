@@ -223,9 +223,16 @@ void Tiles3dStage::run(Context& ctx) {
         up_axis = TileGrid::resolveUpAxis(TilingConfig{}, ctx.hasDataset() ? &ctx.dataset() : nullptr);
         if (ctx.hasMap()) voxel_size_m = ctx.map().voxelSize();
     }
+    // Up is +axis or -axis (KITTI's camera frame: y points down): the LiDAR's z at frame 0.
+    int up_sign = 1;
+    if (ctx.hasDataset() && ctx.dataset().numFrames() > 0 &&
+        ctx.dataset().frame(0).T_W_L.rotation()(up_axis, 2) < 0) {
+        up_sign = -1;
+    }
     const json side = {{"faces", mesh.faces()},
                        {"bounds_W", boundsJson(bounds)},
                        {"up_axis", up_axis},
+                       {"up_sign", up_sign},
                        {"voxel_size_m", voxel_size_m},
                        {"glb_bytes", glb.size()},
                        {"atlas_pages", mesh.pages.size()},
@@ -260,7 +267,7 @@ void Tiles3dStage::finishRun(Context& ctx, const std::vector<FinishedTile>& tile
 
     // The leaves: one per finished tile (untiled: the run's own 3dtiles/tile.glb).
     std::vector<Node> level;
-    int up_axis = 2;
+    int up_axis = 2, up_sign = 1;
     double voxel_size_m = 0.1;
     std::array<double, 256> area{};
     std::size_t leaf_faces = 0, leaf_bytes = 0;
@@ -294,6 +301,7 @@ void Tiles3dStage::finishRun(Context& ctx, const std::vector<FinishedTile>& tile
         n.tile.content_uri = t.name.empty() ? "tile.glb" : "../tiles/" + t.name + "/" + kDir + "/tile.glb";
         n.faces = side.at("faces");
         up_axis = side.value("up_axis", 2);
+        up_sign = side.value("up_sign", 1);
         voxel_size_m = side.value("voxel_size_m", 0.1);
         leaf_faces += n.faces;
         leaf_bytes += side.value("glb_bytes", 0u);
@@ -407,6 +415,7 @@ void Tiles3dStage::finishRun(Context& ctx, const std::vector<FinishedTile>& tile
     json extras = {{"frame", "W"},
                    {"units", "m"},
                    {"up_axis", up_axis},
+                   {"up_sign", up_sign},
                    {"voxel_size_m", voxel_size_m},
                    {"classes", class_list},
                    {"levels", levels},
@@ -417,7 +426,7 @@ void Tiles3dStage::finishRun(Context& ctx, const std::vector<FinishedTile>& tile
         extras["georef"] = {{"latitude_deg", latitude_deg_}, {"longitude_deg", longitude_deg_},
                             {"altitude_m", altitude_m_}, {"heading_deg", heading_deg_}};
     }
-    const std::string tileset = tilesetJson(level.front().tile, rootTransform(georef, up_axis), extras);
+    const std::string tileset = tilesetJson(level.front().tile, rootTransform(georef, up_axis, up_sign), extras);
     writeFileAtomically(dir / "tileset.json", tileset);
 
     Report& report = ctx.report();

@@ -44,11 +44,18 @@ Eigen::Vector3d ecefFromGeodetic(double latitude_deg, double longitude_deg, doub
             (n * (1 - e2) + altitude_m) * std::sin(lat)};
 }
 
-Eigen::Matrix4d rootTransform(const Georef& georef, int up_axis) {
-    // W -> Z-up (a rotation: a cyclic permutation of the axes).
-    Eigen::Matrix3d R_Z_W = Eigen::Matrix3d::Identity();
-    if (up_axis == 1) R_Z_W << 0, 0, 1, 1, 0, 0, 0, 1, 0;  // (x, y, z) -> (z, x, y)
-    if (up_axis == 0) R_Z_W << 0, 1, 0, 0, 0, 1, 1, 0, 0;  // (x, y, z) -> (y, z, x)
+Eigen::Matrix3d zUpFromW(int up_axis, int up_sign) {
+    const Eigen::Vector3d up = (up_sign < 0 ? -1.0 : 1.0) * Eigen::Vector3d::Unit(up_axis);
+    const Eigen::Vector3d first = Eigen::Vector3d::Unit((up_axis + 1) % 3);
+    Eigen::Matrix3d R;
+    R.row(0) = first.transpose();
+    R.row(1) = up.cross(first).transpose();
+    R.row(2) = up.transpose();
+    return R;
+}
+
+Eigen::Matrix4d rootTransform(const Georef& georef, int up_axis, int up_sign) {
+    const Eigen::Matrix3d R_Z_W = zUpFromW(up_axis, up_sign);
     Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
     T.topLeftCorner<3, 3>() = R_Z_W;
     if (!georef.enabled) return T;

@@ -32,10 +32,14 @@ struct Georef {
 /// WGS84 geodetic -> ECEF (metres).
 Eigen::Vector3d ecefFromGeodetic(double latitude_deg, double longitude_deg, double altitude_m);
 
-/// The root transform: T_ECEF_W with the geo-reference (W's up axis turned to z, then ENU at
-/// the reference point rotated by the heading, then ECEF), else W's up axis turned to z
-/// (identity for a z-up W). `up_axis`: 0 = x, 1 = y, 2 = z.
-Eigen::Matrix4d rootTransform(const Georef& georef, int up_axis);
+/// The rotation that turns W's up direction (`up_sign` times axis `up_axis`: 0 = x, 1 = y,
+/// 2 = z) into +z: rows e_{(a+1)%3}, up x that, up (identity for a z-up W; KITTI's camera
+/// frame, y down: (x, y, z) -> (z, -x, -y)).
+Eigen::Matrix3d zUpFromW(int up_axis, int up_sign);
+
+/// The root transform: T_ECEF_W with the geo-reference (zUpFromW, then ENU at the reference
+/// point rotated by the heading, then ECEF), else zUpFromW alone.
+Eigen::Matrix4d rootTransform(const Georef& georef, int up_axis, int up_sign = 1);
 
 /// tileset.json (3D Tiles 1.1): asset, the top-level geometricError (the root box's diagonal:
 /// showing nothing is at most that wrong), the root with `transform` (omitted when identity),

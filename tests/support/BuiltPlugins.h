@@ -26,6 +26,6 @@ inline bool isBuiltPlugin(const std::string& name) {
 }
 
 /// The in-tree plugins whether built or not (plugins/CMakeLists.txt).
-inline std::vector<std::string> inTreePlugins() { return {"texture", "semantic", "cgal"}; }
+inline std::vector<std::string> inTreePlugins() { return {"texture", "semantic", "tiles3d", "cgal"}; }
 
 }  // namespace vdbmap::test

@@ -29,6 +29,7 @@ TEST_CASE("every registered stage can be created and documents every option", "[
     const auto& registry = StageRegistry::instance();
     if (test::isBuiltPlugin("texture")) CHECK(registry.contains("texture.mrf"));
     if (test::isBuiltPlugin("semantic")) CHECK(registry.contains("semantic.mrf"));
+    if (test::isBuiltPlugin("tiles3d")) CHECK(registry.contains("export.3dtiles"));
     if (test::isBuiltPlugin("cgal")) CHECK(registry.contains("mesh.simplify"));
     // A plugin the build leaves out fails with "not found", naming it.
     for (const std::string& name : test::inTreePlugins()) {

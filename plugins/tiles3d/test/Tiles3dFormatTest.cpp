@@ -147,10 +147,16 @@ TEST_CASE("A known point of W lands where it belongs (glTF y-up, tileset z-up)",
     const Eigen::Matrix4d root = rootTransform(Georef{}, 2);
     CHECK(root.isIdentity(0));
     CHECK((tileset_frame - p_W).norm() < 1e-4);
-    // A y-up W (KITTI's camera frame): the root transform turns W's y into the tileset's z.
-    const Eigen::Matrix4d root_y = rootTransform(Georef{}, 1);
-    CHECK((root_y.topLeftCorner<3, 3>() * Eigen::Vector3d::UnitY() - Eigen::Vector3d::UnitZ()).norm() < 1e-12);
-    CHECK(std::abs(root_y.topLeftCorner<3, 3>().determinant() - 1) < 1e-12);
+    // Other up directions (KITTI's camera frame: -y): the root transform is a rotation that
+    // turns W's up into the tileset's z.
+    for (int axis = 0; axis < 3; ++axis) {
+        for (const int sign : {1, -1}) {
+            const Eigen::Matrix3d R = rootTransform(Georef{}, axis, sign).topLeftCorner<3, 3>();
+            CHECK((R * (sign * Eigen::Vector3d::Unit(axis)) - Eigen::Vector3d::UnitZ()).norm() < 1e-12);
+            CHECK((R * R.transpose() - Eigen::Matrix3d::Identity()).norm() < 1e-12);
+            CHECK(std::abs(R.determinant() - 1) < 1e-12);
+        }
+    }
 }
 
 TEST_CASE("The geo-reference puts W's origin on the ellipsoid, W's axes east/north/up", "[tiles3d]") {

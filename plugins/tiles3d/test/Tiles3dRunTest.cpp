@@ -221,7 +221,12 @@ TEST_CASE("A tiled run's tileset follows the 3D Tiles rules; leaves are the sema
     CHECK(tileset["asset"]["version"] == "1.1");
     const json& root = tileset["root"];
     CHECK(tileset["geometricError"].get<double>() >= root["geometricError"].get<double>());
-    CHECK(!root.contains("transform"));  // the simulator's W is z-up, no geo-reference
+    // The simulator's KITTI W is camera 0's frame, y down: the root turns -y into z.
+    REQUIRE(root.contains("transform"));
+    const auto m = root["transform"].get<std::vector<double>>();  // column-major
+    CHECK(m[4 * 0 + 2] == 0.0);  // x stays horizontal
+    CHECK(m[4 * 1 + 2] == -1.0);  // W's y -> tileset -z
+    CHECK(m[4 * 2 + 2] == 0.0);
     std::size_t leaves = 0, parents = 0;
     visit(root, nullptr, [&](const json& tile, const json* parent) {
         CHECK(tile.value("refine", "") == "REPLACE");
