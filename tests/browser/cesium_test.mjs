@@ -106,7 +106,7 @@ try {
 	const errors = log.errors.filter( e => ! /__cesium\/.*404|net::ERR_FAILED.*(ion|cesium\.com)/.test( e ) );
 	check( errors.length === 0, `${ name } CesiumJS: no console errors${ errors.length ? ': ' + errors.join( ' | ' ) : '' }` );
 	await context.close();
-	ok = true;
+	ok = process.exitCode !== 1;
 
 } finally {
 

@@ -22,10 +22,17 @@ export function fail( message ) {
 
 }
 
+/** Reports a check; a failed one sets the exit code and the run goes on (all checks reported). */
 export function check( condition, message ) {
 
 	if ( condition ) console.log( `ok: ${ message }` );
-	else fail( message );
+	else {
+
+		console.error( `FAIL: ${ message }` );
+		process.exitCode = 1;
+
+	}
+	return condition;
 
 }
 

@@ -56,6 +56,8 @@ try {
 			`${ name } overview is not blank: ${ ( 100 * stats.nonBackground ).toFixed( 1 )} % of pixels drawn, ${ stats.distinctColours } colours, ${ idle.loadedTiles } tiles loaded` );
 		const fetched = fetchedContents( log.requests, contents );
 		const fetchedLeaves = fetched.filter( p => contents.get( p ).leaf );
+		const parents = [ ...contents.values() ].filter( c => ! c.leaf ).length;
+		check( parents > 0, `${ name }: the tileset has levels of detail (${ parents } parent contents)` );
 		check( fetched.length > 0 && fetchedLeaves.length === 0,
 			`${ name } overview fetched only upper levels: ${ fetched.length } contents (depths ${ [ ...new Set( fetched.map( p => contents.get( p ).depth ) ) ].sort().join( ',' ) }), no leaf of ${ leaves.length }` );
 		if ( args.shots ) {
@@ -129,7 +131,7 @@ try {
 		await context.close();
 
 	}
-	ok = true;
+	ok = process.exitCode !== 1;
 
 } finally {
 
