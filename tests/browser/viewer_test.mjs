@@ -23,6 +23,8 @@ const name = args.name || 'run';
 const t0 = Date.now();
 
 /** The road's colour from docs/DATA.md's label table ("| 0 | road | 128 64 128 |"). */
+const stamp = what => console.log( `  ${ ( ( Date.now() - t0 ) / 1000 ).toFixed( 1 ) } s: ${ what }` );
+
 function roadColour( dataMd ) {
 
 	const m = readFileSync( dataMd, 'utf8' ).match( /\|\s*\d+\s*\|\s*road\s*\|\s*(\d+)\s+(\d+)\s+(\d+)\s*\|/ );
@@ -43,13 +45,18 @@ const browser = await launchChromium();
 let ok = false;
 try {
 
+	// One page (a WebGL context and SwiftShader's shader compiles cost seconds each): the
+	// overview first, then the close-up with the request log emptied in between.
+	const { page, log, context } = await freshPage( browser, 960, 600 );
+
 	// ---- overview
 	{
 
-		const { page, log, context } = await freshPage( browser );
 		await page.goto( server.url, { waitUntil: 'load' } );
 		await page.waitForFunction( () => window.viewer && window.viewer.state.rootLoaded, { timeout: 30000 } );
+		stamp( 'overview: root loaded' );
 		const idle = await page.evaluate( () => window.viewer.whenIdle() );
+		stamp( 'overview: tiles loaded' );
 		const stats = await canvasStats( page );
 		if ( args.shots ) await page.screenshot( { path: join( args.shots, `viewer_${ name }_overview.jpg` ), type: 'jpeg', quality: 85 } );
 		check( stats.nonBackground > 0.05 && stats.distinctColours >= 3,
@@ -68,7 +75,6 @@ try {
 
 		}
 		check( log.errors.length === 0, `${ name } overview: no console errors${ log.errors.length ? ': ' + log.errors.join( ' | ' ) : '' }` );
-		await context.close();
 
 	}
 
@@ -91,11 +97,15 @@ try {
 		// that any renderer refines to them.
 		const target = [ 0, 1, 2 ].map( k => p[ k ] - 1.7 * up[ k ] );
 		const cam = [ 0, 1, 2 ].map( k => p[ k ] + 0.3 * up[ k ] - 1.5 * fwd[ k ] / n );
-		const { page, log, context } = await freshPage( browser );
-		const query = `?mode=class&cam=${ cam.join( ',' ) }&target=${ target.join( ',' ) }`;
-		await page.goto( server.url + query, { waitUntil: 'load' } );
-		await page.waitForFunction( () => window.viewer && window.viewer.state.rootLoaded, { timeout: 30000 } );
+		log.requests.length = 0;
+		await page.evaluate( ( c, t ) => {
+
+			window.viewer.setMode( 'class' );
+			window.viewer.setViewW( c, t );
+
+		}, cam, target );
 		await page.evaluate( () => window.viewer.whenIdle() );
+		stamp( 'close-up: tiles loaded' );
 		const { width, height } = page.viewport();
 		const centre = [ Math.round( width / 2 ), Math.round( height / 2 ) ];
 		const stats = await canvasStats( page, [ centre ] );

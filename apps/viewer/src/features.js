@@ -73,21 +73,23 @@ function mergeRecords( records ) {
 
 }
 
-/** Looks a feature up in its property table once per (set, id). */
+/** Looks a feature up in its property table once per (table, id). */
 class RowCache {
 
 	constructor( metadata ) {
 
 		this.metadata = metadata;
-		this.cache = new Map();
+		this.tables = new Map(); // table -> Array indexed by id
+		this.empty = interpretRow( null );
 
 	}
 
 	get( table, id ) {
 
-		if ( table === null || table === undefined || id === null || ! this.metadata ) return interpretRow( null );
-		const key = table + ':' + id;
-		let record = this.cache.get( key );
+		if ( table === null || table === undefined || id === null || ! this.metadata ) return this.empty;
+		let rows = this.tables.get( table );
+		if ( ! rows ) this.tables.set( table, rows = [] );
+		let record = rows[ id ];
 		if ( ! record ) {
 
 			let row = null;
@@ -100,8 +102,7 @@ class RowCache {
 				row = null;
 
 			}
-			record = interpretRow( row );
-			this.cache.set( key, record );
+			record = rows[ id ] = interpretRow( row );
 
 		}
 		return record;

@@ -419,6 +419,7 @@ window.viewer = {
 
 		setNavigation( 'orbit' );
 		setView( toThree( position ), toThree( target ) );
+		state.idleFrames = 0;
 
 	},
 	pick,
