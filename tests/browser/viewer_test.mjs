@@ -129,12 +129,18 @@ try {
 		check( fetchedLeaves.length > 0, `${ name } close-up fetched leaves: ${ fetchedLeaves.length } of ${ fetched.length } contents` );
 		if ( args.shots ) {
 
-			await page.evaluate( () => window.viewer.setMode( 'texture' ) );
-			await new Promise( r => setTimeout( r, 300 ) );
-			await page.screenshot( { path: join( args.shots, `viewer_${ name }_closeup_textured.jpg` ), type: 'jpeg', quality: 85 } );
-			await page.evaluate( () => window.viewer.setMode( 'confidence' ) );
-			await new Promise( r => setTimeout( r, 300 ) );
-			await page.screenshot( { path: join( args.shots, `viewer_${ name }_closeup_confidence.jpg` ), type: 'jpeg', quality: 85 } );
+			// For the docs: a street view 8 m up, 12 m behind the middle pose, in each mode.
+			const camS = [ 0, 1, 2 ].map( k => p[ k ] + 8 * up[ k ] - 12 * fwd[ k ] / n );
+			const targetS = [ 0, 1, 2 ].map( k => p[ k ] - 1.7 * up[ k ] + 6 * fwd[ k ] / n );
+			await page.evaluate( ( c, t ) => window.viewer.setViewW( c, t ), camS, targetS );
+			await page.evaluate( () => window.viewer.whenIdle() );
+			for ( const mode of [ 'texture', 'class', 'confidence' ] ) {
+
+				await page.evaluate( m => window.viewer.setMode( m ), mode );
+				await new Promise( r => setTimeout( r, 500 ) );
+				await page.screenshot( { path: join( args.shots, `viewer_${ name }_street_${ mode }.jpg` ), type: 'jpeg', quality: 85 } );
+
+			}
 
 		}
 		check( log.errors.length === 0, `${ name } close-up: no console errors${ log.errors.length ? ': ' + log.errors.join( ' | ' ) : '' }` );

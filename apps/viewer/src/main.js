@@ -227,7 +227,7 @@ function setView( position, target ) {
 function overview() {
 
 	const { center, radius } = state.sphere;
-	const distance = 1.05 * radius / Math.sin( ( camera.fov * Math.PI / 180 ) / 2 );
+	const distance = 0.85 * radius / Math.sin( ( camera.fov * Math.PI / 180 ) / 2 );
 	const dir = new Vector3( 0.45, 0.8, 0.55 ).normalize();
 	setView( center.clone().addScaledVector( dir, distance ), center.clone() );
 
