@@ -63,6 +63,8 @@ try {
 			`${ name } overview is not blank: ${ ( 100 * stats.nonBackground ).toFixed( 1 )} % of pixels drawn, ${ stats.distinctColours } colours, ${ idle.loadedTiles } tiles loaded` );
 		const fetched = fetchedContents( log.requests, contents );
 		const fetchedLeaves = fetched.filter( p => contents.get( p ).leaf );
+		const foreign = log.requests.filter( u => ! u.startsWith( server.url ) && ! /^(data|blob):/.test( u ) );
+		check( foreign.length === 0, `${ name }: the page fetched nothing but from vdbmap view (${ log.requests.length } requests)${ foreign.length ? ': ' + foreign.join( ' ' ) : '' }` );
 		const parents = [ ...contents.values() ].filter( c => ! c.leaf ).length;
 		check( parents > 0, `${ name }: the tileset has levels of detail (${ parents } parent contents)` );
 		check( fetched.length > 0 && fetchedLeaves.length === 0,
