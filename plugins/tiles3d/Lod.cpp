@@ -137,8 +137,10 @@ TileMesh buildParent(const std::vector<const TileMesh*>& children, const ParentO
                 std::uint32_t ub, vb;
                 std::memcpy(&ub, &v.uv.x(), 4);
                 std::memcpy(&vb, &v.uv.y(), 4);
+                // Not the class: class borders need not stay seams at a coarser level (a
+                // parent's face takes the class of its first corner's face).
                 const Key key{std::llround(w.x() * 1e4), std::llround(w.y() * 1e4),
-                              std::llround(w.z() * 1e4), ub, vb, v.page, v.label};
+                              std::llround(w.z() * 1e4), ub, vb, v.page, 0};
                 const auto [it, added] = index_of.emplace(key, static_cast<std::uint32_t>(vertices.size()));
                 if (added) vertices.push_back(v);
                 indices.push_back(it->second);

@@ -21,7 +21,8 @@ struct ParentFigures {
 };
 
 /// A parent of the quadtree: the children's faces merged, welded (same position, texture
-/// coordinate, page and class: texture and class borders stay seams) and simplified with
+/// coordinate and page: texture borders stay seams; a face takes the class and confidence of
+/// its first corner's first face) and simplified with
 /// meshopt_simplify (LockBorder: the outline stays, so neighbouring parents meet without
 /// cracks) to a quarter of the faces, at most voxel_size_m * 2^level of error; the children's
 /// atlas pages halved (INTER_AREA) and packed into one page (smaller again if it would

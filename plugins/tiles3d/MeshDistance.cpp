@@ -5,6 +5,9 @@
 #include <cmath>
 #include <limits>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 namespace vdbmap::tiles3d {
 
 double pointTriangleDistance(const Eigen::Vector3d& p, const Triangle& t) {
@@ -129,51 +132,66 @@ double TriangleGrid::distance(const Eigen::Vector3d& p) const {
 
 double hausdorffBound(const std::vector<Triangle>& a, const TriangleGrid& b, double tolerance_m,
                       std::size_t* samples) {
-    struct Item {
-        Triangle t;
-        std::array<double, 3> d;
-        int depth;
-    };
-    std::size_t queries = 0;
-    auto dist = [&](const Eigen::Vector3d& p) {
-        ++queries;
-        return b.distance(p);
-    };
+    // Phase 1: the largest corner distance, a lower bound of the maximum (parallel; max is
+    // order-free). Phase 2: each triangle on its own against that fixed lower bound, so that the
+    // result does not depend on the order or the threads.
     auto radius = [](const Triangle& t) {
         return std::max({(t[1] - t[0]).norm(), (t[2] - t[1]).norm(), (t[0] - t[2]).norm()}) /
                std::sqrt(3.0);
     };
-    std::vector<Item> stack;
-    stack.reserve(a.size());
-    double lower = 0.0;
-    for (const Triangle& t : a) {
-        Item item{t, {dist(t[0]), dist(t[1]), dist(t[2])}, 0};
-        lower = std::max({lower, item.d[0], item.d[1], item.d[2]});
-        stack.push_back(item);
-    }
-    double upper = lower;
-    while (!stack.empty()) {
-        Item item = stack.back();
-        stack.pop_back();
-        const double dmax = std::max({item.d[0], item.d[1], item.d[2]});
-        const double bound = dmax + radius(item.t);
-        if (bound <= lower + tolerance_m || item.depth >= 24) {
-            upper = std::max(upper, bound);
-            continue;
+    std::vector<std::array<double, 3>> corner(a.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, a.size(), 256), [&](const auto& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            for (std::size_t k = 0; k < 3; ++k) corner[i][k] = b.distance(a[i][k]);
         }
-        const Eigen::Vector3d m01 = 0.5 * (item.t[0] + item.t[1]);
-        const Eigen::Vector3d m12 = 0.5 * (item.t[1] + item.t[2]);
-        const Eigen::Vector3d m20 = 0.5 * (item.t[2] + item.t[0]);
-        const double d01 = dist(m01), d12 = dist(m12), d20 = dist(m20);
-        lower = std::max({lower, d01, d12, d20});
-        const int depth = item.depth + 1;
-        stack.push_back({{item.t[0], m01, m20}, {item.d[0], d01, d20}, depth});
-        stack.push_back({{m01, item.t[1], m12}, {d01, item.d[1], d12}, depth});
-        stack.push_back({{m20, m12, item.t[2]}, {d20, d12, item.d[2]}, depth});
-        stack.push_back({{m01, m12, m20}, {d01, d12, d20}, depth});
+    });
+    double lower = 0.0;
+    for (const auto& d : corner) lower = std::max({lower, d[0], d[1], d[2]});
+    const double threshold = lower + tolerance_m;
+    std::vector<double> upper(a.size(), 0.0);
+    std::vector<std::size_t> queries(a.size(), 3);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, a.size(), 64), [&](const auto& r) {
+        struct Item {
+            Triangle t;
+            std::array<double, 3> d;
+            int depth;
+        };
+        std::vector<Item> stack;
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            stack.clear();
+            stack.push_back({a[i], corner[i], 0});
+            double up = 0.0;
+            while (!stack.empty()) {
+                const Item item = stack.back();
+                stack.pop_back();
+                const double dmax = std::max({item.d[0], item.d[1], item.d[2]});
+                const double bound = dmax + radius(item.t);
+                if (bound <= threshold || item.depth >= 20) {
+                    up = std::max(up, bound);
+                    continue;
+                }
+                const Eigen::Vector3d m01 = 0.5 * (item.t[0] + item.t[1]);
+                const Eigen::Vector3d m12 = 0.5 * (item.t[1] + item.t[2]);
+                const Eigen::Vector3d m20 = 0.5 * (item.t[2] + item.t[0]);
+                const double d01 = b.distance(m01), d12 = b.distance(m12), d20 = b.distance(m20);
+                queries[i] += 3;
+                const int depth = item.depth + 1;
+                stack.push_back({{item.t[0], m01, m20}, {item.d[0], d01, d20}, depth});
+                stack.push_back({{m01, item.t[1], m12}, {d01, item.d[1], d12}, depth});
+                stack.push_back({{m20, m12, item.t[2]}, {d20, d12, item.d[2]}, depth});
+                stack.push_back({{m01, m12, m20}, {d01, d12, d20}, depth});
+            }
+            upper[i] = up;
+        }
+    });
+    double result = lower;
+    std::size_t total = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        result = std::max(result, upper[i]);
+        total += queries[i];
     }
-    if (samples) *samples = queries;
-    return std::max(upper, lower);
+    if (samples) *samples = total;
+    return result;
 }
 
 }  // namespace vdbmap::tiles3d

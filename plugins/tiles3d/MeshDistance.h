@@ -36,8 +36,9 @@ double pointTriangleDistance(const Eigen::Vector3d& p, const Triangle& t);
 /// the surface of `a` to the surface of `b`, within `tolerance_m` of the true value:
 /// distance-to-B is 1-Lipschitz, so over a triangle it is at most its largest corner value plus
 /// the triangle's covering radius (<= longest edge / sqrt 3); triangles whose bound exceeds the
-/// best lower bound found so far by more than the tolerance are split in four (branch and
-/// bound). `samples` (if given) receives the number of distance queries.
+/// largest corner distance (a lower bound) by more than the tolerance are split in four
+/// (branch and bound). Parallel (TBB) and independent of the thread count. `samples` (if
+/// given) receives the number of distance queries.
 double hausdorffBound(const std::vector<Triangle>& a, const TriangleGrid& b, double tolerance_m,
                       std::size_t* samples = nullptr);
 

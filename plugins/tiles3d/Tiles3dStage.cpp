@@ -318,6 +318,8 @@ void Tiles3dStage::finishRun(Context& ctx, const std::vector<FinishedTile>& tile
     levels.push_back({{"level", 0}, {"tiles", level.size()}, {"faces", leaf_faces},
                       {"geometric_error_m", 0.0}});
     int depth = 0;
+    double read_s = 0, build_s = 0, measure_s = 0, write_s = 0;
+    std::size_t distance_queries = 0;
     while (level.size() > 1) {
         ++depth;
         std::map<std::pair<int, int>, std::vector<Node>> groups;
@@ -339,6 +341,7 @@ void Tiles3dStage::finishRun(Context& ctx, const std::vector<FinishedTile>& tile
             const std::string file_name = std::to_string(depth) + "_" + std::to_string(p.kx) + "_" +
                                           std::to_string(p.ky) + ".glb";
             if (content && std::all_of(children.begin(), children.end(), [](const Node& c) { return !c.glb.empty(); })) {
+                Timer step;
                 std::vector<TileMesh> meshes;
                 for (const Node& c : children) {
                     try {
@@ -353,7 +356,11 @@ void Tiles3dStage::finishRun(Context& ctx, const std::vector<FinishedTile>& tile
                 po.level = depth;
                 po.voxel_size_m = voxel_size_m;
                 po.max_atlas_px = lod_atlas_max_px_;
+                read_s += step.elapsedSeconds();
+                step.reset();
                 TileMesh parent = buildParent(ptrs, po);
+                build_s += step.elapsedSeconds();
+                step.reset();
                 // The measured bound: distance from the parent to its children, plus theirs.
                 std::vector<Triangle> reference;
                 for (const TileMesh& m : meshes) {
@@ -361,7 +368,11 @@ void Tiles3dStage::finishRun(Context& ctx, const std::vector<FinishedTile>& tile
                 }
                 meshes.clear();
                 const TriangleGrid grid(std::move(reference));
-                const double d = hausdorffBound(trianglesW(parent), grid, 0.25 * voxel_size_m);
+                std::size_t queries = 0;
+                const double d = hausdorffBound(trianglesW(parent), grid, 0.5 * voxel_size_m, &queries);
+                distance_queries += queries;
+                measure_s += step.elapsedSeconds();
+                step.reset();
                 p.tile.geometric_error_m = child_error + std::max(d, 1e-3);
                 p.faces = parent.faces();
                 const fs::path rel = fs::path(kDir) / "lod" / file_name;
@@ -372,6 +383,7 @@ void Tiles3dStage::finishRun(Context& ctx, const std::vector<FinishedTile>& tile
                     fail(rel.string() + ": " + e.what());
                 }
                 writeFileAtomically(out / rel, glb);
+                write_s += step.elapsedSeconds();
                 p.glb = rel.generic_string();
                 p.tile.content_uri = "lod/" + file_name;
                 faces += p.faces;
@@ -432,6 +444,11 @@ void Tiles3dStage::finishRun(Context& ctx, const std::vector<FinishedTile>& tile
     Report& report = ctx.report();
     report.stage(stage, "finish_run_s", timer.elapsedSeconds());
     report.stage(stage, "leaves", leaves.size());
+    report.set({"stages", stage, "lod_timings_s", "read_children"}, read_s);
+    report.set({"stages", stage, "lod_timings_s", "merge_simplify_atlas"}, build_s);
+    report.set({"stages", stage, "lod_timings_s", "measure_error"}, measure_s);
+    report.set({"stages", stage, "lod_timings_s", "encode_write"}, write_s);
+    report.stage(stage, "lod_distance_queries", distance_queries);
     report.stage(stage, "leaf_faces", leaf_faces);
     report.stage(stage, "leaf_glb_bytes", leaf_bytes);
     report.setJson({"stages", stage, "levels"}, levels.dump());
