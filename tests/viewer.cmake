@@ -42,7 +42,7 @@ if(VDBMAP_BROWSER_TESTS AND NOT VDBMAP_SANITIZE AND TARGET vdbmap_app)
 '$<TARGET_FILE:vdbmap_sim>' street --frames 6 --size 40 --seed 1 --gt-views 0 --quiet -o '${_sim_seq}' && \
 '${_vdbmap}' run '${CMAKE_CURRENT_SOURCE_DIR}/browser/tiled_street.yaml' --set dataset.path='${_sim_seq}' \
 -o '${_sim_run}' --quiet && test -s '${_sim_run}/3dtiles/tileset.json'")
-        set_tests_properties(browser_sim_run PROPERTIES FIXTURES_SETUP browser_sim TIMEOUT 300)
+        set_tests_properties(browser_sim_run PROPERTIES FIXTURES_SETUP browser_sim TIMEOUT 900)
         add_test(NAME viewer_browser_sim
                  COMMAND node ${_browser}/viewer_test.mjs --vdbmap ${_vdbmap} --out ${_sim_run}
                          --data-md ${_data_md} --name sim)
