@@ -16,13 +16,16 @@ PACKAGES=(
     liblzf-dev
     openmpi-bin libopenmpi-dev
     pybind11-dev python3-dev python3-numpy python3-pytest python3-open3d xvfb xauth
+    libcpp-httplib-dev chromium
     libmeshoptimizer-dev
     nodejs
     "$@"
 )
-# npm: Debian's package only when no npm is on PATH (a NodeSource nodejs ships its own npm and
-# conflicts with Debian's).
-command -v npm > /dev/null 2>&1 || PACKAGES+=(npm)
+# node's npm (gltf-validator, the viewer's browser tests): Debian's `npm` only when no npm is on
+# PATH (a NodeSource nodejs brings its own npm, and Debian's npm would conflict with it).
+if ! command -v npm > /dev/null 2>&1; then
+    PACKAGES+=(npm)
+fi
 
 missing=()
 for pkg in "${PACKAGES[@]}"; do

@@ -25,3 +25,5 @@ void addDescribeCommand(CLI::App& app, int& exit_code);
 void addInfoCommand(CLI::App& app, int& exit_code);
 /// `vdbmap eval ...` (apps/vdbmap/EvalCommand.cpp).
 void addEvalCommand(CLI::App& app, int& exit_code);
+/// `vdbmap view OUT [--port N] [--no-open]` (apps/vdbmap/ViewCommand.cpp, docs/viewer.md).
+void addViewCommand(CLI::App& app, int& exit_code);

@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
     addDescribeCommand(app, exit_code);
     addInfoCommand(app, exit_code);
     addEvalCommand(app, exit_code);
+    addViewCommand(app, exit_code);
     try {
         addRelocatablePluginDir();
         vdbmap::registerBuiltinStages();
