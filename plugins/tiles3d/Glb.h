@@ -29,7 +29,7 @@ struct GlbOptions {
 /// - glTF is y-up: a point p of W (z up) is stored as (p.x, p.z, -p.y) - origin, so that the
 ///   3D Tiles runtime's y-up to z-up rotation gives W back;
 /// - EXT_mesh_features: feature id set 0 (`_FEATURE_ID_0`) = the face's index, row of property
-///   table 0 "face" (class_id, confidence); set 1 (`_FEATURE_ID_1`) = row of table 1 "class"
+///   table 0 "face" (class_id, confidence); set 1 (`_FEATURE_ID_1`) = row of table 1 "semantic_class"
 ///   (class_id, name, color) - EXT_structural_metadata;
 /// - atlas pages as JPEG or PNG images in the binary chunk; EXT_meshopt_compression
 ///   (required, no fallback data) on the vertex attributes when options.meshopt.

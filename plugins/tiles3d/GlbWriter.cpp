@@ -220,7 +220,7 @@ std::string writeGlb(const TileMesh& mesh, const std::vector<ClassInfo>& classes
                   {{{"featureCount", faces.size()}, {"attribute", 0}, {"propertyTable", 0},
                     {"label", "face"}},
                    {{"featureCount", distinct}, {"attribute", 1}, {"propertyTable", 1},
-                    {"label", "class"}}}}}}}}});
+                    {"label", "semantic_class"}}}}}}}}});
     }
 
     // Property tables: per face (class id, confidence), per class (id, name, colour).
@@ -250,7 +250,7 @@ std::string writeGlb(const TileMesh& mesh, const std::vector<ClassInfo>& classes
                             {"description", "Class id (docs/DATA.md label set); 255 = unknown"}}},
               {"confidence", {{"type", "SCALAR"}, {"componentType", "FLOAT32"},
                               {"description", "Confidence of the class in [0, 1]"}}}}}}},
-          {"class",
+          {"semantic_class",
            {{"description", "A semantic class of the label set"},
             {"properties",
              {{"class_id", {{"type", "SCALAR"}, {"componentType", "UINT8"}}},
@@ -263,7 +263,7 @@ std::string writeGlb(const TileMesh& mesh, const std::vector<ClassInfo>& classes
           {"properties",
            {{"class_id", {{"values", face_class_view}}},
             {"confidence", {{"values", confidence_view}}}}}},
-         {{"class", "class"},
+         {{"class", "semantic_class"},
           {"count", classes.size()},
           {"properties",
            {{"class_id", {{"values", ids_view}}},

@@ -433,7 +433,7 @@ void Tiles3dStage::finishRun(Context& ctx, const std::vector<FinishedTile>& tile
                    {"classes", class_list},
                    {"levels", levels},
                    {"feature_ids", "_FEATURE_ID_0: face (property table 0 'face': class_id, confidence); "
-                                   "_FEATURE_ID_1: class (property table 1 'class': class_id, name, color)"}};
+                                   "_FEATURE_ID_1: class (property table 1 'semantic_class': class_id, name, color)"}};
     if (drive_path_ && ctx.hasDataset()) extras["drive_path"] = "drive_path.json";
     if (georef_) {
         extras["georef"] = {{"latitude_deg", latitude_deg_}, {"longitude_deg", longitude_deg_},
