@@ -81,9 +81,21 @@ ChildOptions killAfter(std::size_t tiles) {
     return options;
 }
 
-/// An uninterrupted run, made once (written beside and renamed into place, as the sequence).
+/// The newest modification time of the programs a run uses (vdbmap, libvdbmap, the plugins),
+/// so that a reference made by an earlier build is not reused after a rebuild.
+std::string buildStamp() {
+    fs::file_time_type newest = fs::last_write_time(test::kVdbmapExe);
+    const fs::path lib = fs::path(VDBMAP_BINARY_DIR) / "lib";
+    for (const auto& e : fs::recursive_directory_iterator(lib)) {
+        if (e.is_regular_file()) newest = std::max(newest, e.last_write_time());
+    }
+    return std::to_string(newest.time_since_epoch().count());
+}
+
+/// An uninterrupted run, made once per build (written beside and renamed into place, as the
+/// sequence).
 fs::path reference() {
-    const fs::path dir = workDir() / "reference";
+    const fs::path dir = workDir() / ("reference." + buildStamp());
     if (fs::exists(dir / "tiles.json")) return dir;
     const fs::path staging = workDir() / ("reference.writing." + std::to_string(::getpid()));
     fs::remove_all(staging);
