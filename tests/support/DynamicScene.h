@@ -11,11 +11,13 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "vdbmap/core/Types.h"
+#include "vdbmap/io/Dataset.h"
 #include "vdbmap/io/LidarLabels.h"
 #include "vdbmap/io/PointCloudIO.h"
 
@@ -145,6 +147,24 @@ inline void writeDynamicDataset(const std::filesystem::path& dir, const std::vec
             writeLidarLabels(dir / "labels" / (name.str() + ".label"), l);
         }
     }
+}
+
+/// An empty folder below the system's temporary folder, named `prefix` + `name`.
+inline std::filesystem::path freshScratch(const std::string& prefix, const std::string& name) {
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / (prefix + name);
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    return dir;
+}
+
+/// The generic dataset writeDynamicDataset wrote in `dir` (with its labels when it wrote them).
+inline std::shared_ptr<Dataset> openDynamicDataset(const std::filesystem::path& dir) {
+    DatasetConfig dc;
+    dc.format = "generic";
+    dc.path = dir.string();
+    dc.max_range_m = 100.0;
+    if (std::filesystem::exists(dir / "labels")) dc.labels_dir = "labels";
+    return Dataset::open(dc);
 }
 
 }  // namespace vdbmap::test

@@ -23,20 +23,9 @@ using test::Hit;
 
 namespace {
 
-fs::path scratch(const std::string& name) {
-    const fs::path dir = fs::temp_directory_path() / ("vdbmap_dynobj_" + name);
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path scratch(const std::string& name) { return test::freshScratch("vdbmap_dynobj_", name); }
 
-std::shared_ptr<Dataset> openGeneric(const fs::path& dir) {
-    DatasetConfig dc;
-    dc.format = "generic";
-    dc.path = dir.string();
-    dc.max_range_m = 100.0;
-    return Dataset::open(dc);
-}
+std::shared_ptr<Dataset> openGeneric(const fs::path& dir) { return test::openDynamicDataset(dir); }
 
 /// A flat square of ground points (z = 0, spacing 0.1 m, side `side_m` centred on the origin),
 /// in the sensor frame 1.7 m above: z = -1.7.

@@ -22,21 +22,9 @@ using test::Hit;
 
 namespace {
 
-fs::path scratch(const std::string& name) {
-    const fs::path dir = fs::temp_directory_path() / ("vdbmap_dynamic_" + name);
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path scratch(const std::string& name) { return test::freshScratch("vdbmap_dynamic_", name); }
 
-std::shared_ptr<Dataset> openGeneric(const fs::path& dir) {
-    DatasetConfig dc;
-    dc.format = "generic";
-    dc.path = dir.string();
-    dc.max_range_m = 100.0;
-    if (fs::exists(dir / "labels")) dc.labels_dir = "labels";
-    return Dataset::open(dc);
-}
+std::shared_ptr<Dataset> openGeneric(const fs::path& dir) { return test::openDynamicDataset(dir); }
 
 /// Removed and total points per kind of surface over the frames `frames`.
 struct Counts {
