@@ -261,6 +261,8 @@ std::vector<std::uint8_t> DynamicDetector::detect(std::size_t frame,
         }
         std::vector<TrackBox> coasting;
         const std::vector<std::uint8_t> moving = movingObjects(window, config_.tracks, &coasting);
+        stats_.objects += objects.clusters.size();
+        stats_.objects_moving += static_cast<std::size_t>(std::count(moving.begin(), moving.end(), 1));
         const std::vector<std::uint8_t> low =
             lowPointsUnder(points_L, objects, moving, static_cast<float>(config_.objects.voxel_m));
         // Points of moving objects not moving by their own test.
