@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "stages/DynamicRemovalStep.h"
+#include "stages/KeepPoints.h"
 
 
 #include "vdbmap/core/Log.h"
@@ -119,19 +120,11 @@ ScanFilter DynamicRemovalStep::filter() {
         const Isometry3d& T_W_L = dataset_->frame(frame).T_W_L;
         const Eigen::Matrix3f R = T_W_L.linear().cast<float>();
         const Vec3f t = T_W_L.translation().cast<float>();
-        const bool has_intensity = cloud.intensity.size() == cloud.points.size();
-        std::size_t kept = 0;
-        for (std::size_t i = 0; i < cloud.points.size(); ++i) {
-            if (dynamic[i]) {
-                removed_.add(R * cloud.points[i] + t, static_cast<std::uint32_t>(frame), index[i]);
-                continue;
-            }
-            cloud.points[kept] = cloud.points[i];
-            if (has_intensity) cloud.intensity[kept] = cloud.intensity[i];
-            ++kept;
-        }
-        cloud.points.resize(kept);
-        if (has_intensity) cloud.intensity.resize(kept);
+        keepPoints(cloud, [&](std::size_t i) {
+            if (!dynamic[i]) return true;
+            removed_.add(R * cloud.points[i] + t, static_cast<std::uint32_t>(frame), index[i]);
+            return false;
+        });
     };
 }
 

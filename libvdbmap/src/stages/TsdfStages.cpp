@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "stages/TsdfStages.h"
 #include "stages/DynamicRemovalStep.h"
+#include "stages/KeepPoints.h"
 
 #include <openvdb/openvdb.h>
 
@@ -45,17 +46,9 @@ ScanFilter withPointRegion(ScanFilter first, const Dataset& dataset, const Point
         const Isometry3d& T_W_L = dataset.frame(frame).T_W_L;
         const Eigen::Matrix3f R = T_W_L.linear().cast<float>();
         const Vec3f t = T_W_L.translation().cast<float>();
-        const bool has_intensity = cloud.intensity.size() == cloud.points.size();
-        std::size_t kept = 0;
-        for (std::size_t i = 0; i < cloud.points.size(); ++i) {
-            if (!region->contains(R * cloud.points[i] + t)) continue;
-            cloud.points[kept] = cloud.points[i];
-            if (has_intensity) cloud.intensity[kept] = cloud.intensity[i];
-            ++kept;
-        }
-        dropped += cloud.points.size() - kept;
-        cloud.points.resize(kept);
-        if (has_intensity) cloud.intensity.resize(kept);
+        const std::size_t before = cloud.points.size();
+        keepPoints(cloud, [&](std::size_t i) { return region->contains(R * cloud.points[i] + t); });
+        dropped += before - cloud.points.size();
     };
 }
 
