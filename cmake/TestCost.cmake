@@ -26,3 +26,13 @@ function(vdbmap_test_cost name out)
     endif()
     set(${out} ${cost} PARENT_SCOPE)
 endfunction()
+
+# The sanitizer suite (scripts/sanitize.sh) leaves out the end-to-end cases tagged [heavy]:
+# each repeats with more runs a path that a lighter case also drives under the sanitizers
+# (docs/developing.md lists them and their lighter twins); the release suite runs them all.
+# Every catch_discover_tests call passes TEST_SPEC ${VDBMAP_TEST_SPEC}.
+if(VDBMAP_SANITIZE)
+    set(VDBMAP_TEST_SPEC "~[heavy]")
+else()
+    set(VDBMAP_TEST_SPEC "")
+endif()

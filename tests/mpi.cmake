@@ -9,6 +9,6 @@ if(TARGET vdbmap_mpi AND TARGET vdbmap_app AND MPIEXEC_EXECUTABLE)
     vdbmap_set_warnings(MpiRunTest)
     add_dependencies(MpiRunTest vdbmap_mpi vdbmap_app vdbmap_plugin_texture vdbmap_plugin_semantic)
     vdbmap_test_cost(MpiRunTest cost)
-    catch_discover_tests(MpiRunTest WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR}
+    catch_discover_tests(MpiRunTest WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR} TEST_SPEC ${VDBMAP_TEST_SPEC}
         PROPERTIES TIMEOUT 900 LABELS "mpi" COST ${cost})
 endif()

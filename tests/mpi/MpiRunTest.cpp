@@ -161,7 +161,7 @@ TEST_CASE("A failing rank fails the job with exit 1, names the tile, writes no t
     CHECK(report["status"]["error"].get<std::string>().rfind("tile ", 0) == 0);
 }
 
-TEST_CASE("mpirun with more ranks than tiles warns and still writes every tile", "[mpi][tiles]") {
+TEST_CASE("mpirun with more ranks than tiles warns and still writes every tile", "[mpi][tiles][heavy]") {
     const fs::path seq = sequence();
     // 64 m tiles: the 60 m street and its reach touch at most 6 tiles.
     const fs::path config = writeConfig(workDir() / "big_tiles.yaml", seq, 64.0);
@@ -200,7 +200,7 @@ TEST_CASE("mpirun -np 2 vdbmap run stops at once, naming vdbmap-mpi run", "[mpi]
 }
 
 TEST_CASE("A single-process run killed is resumed under mpirun -np 3, and the other way round",
-          "[mpi][tiles][resume]") {
+          "[mpi][tiles][resume][heavy]") {
     // docs/tiling.md "Resume": the journal's tiles are kept whichever process count wrote or
     // reads it; the outputs are those of an uninterrupted single-process run.
     const fs::path seq = sequence();

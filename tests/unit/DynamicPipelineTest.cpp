@@ -82,7 +82,7 @@ nlohmann::json removalReport(const fs::path& out) {
 }  // namespace
 
 TEST_CASE("Each truncation mode: the mover leaves no surface, the same points are removed",
-          "[dynamic][pipeline]") {
+          "[dynamic][pipeline][heavy]") {
     const fs::path root = sceneRoot("modes");
     Report off_report;
     Pipeline::fromString(yaml("adaptive", false), "off", root)->run(root / "off", off_report, true);
@@ -124,7 +124,7 @@ TEST_CASE("Each truncation mode: the mover leaves no surface, the same points ar
     }
 }
 
-TEST_CASE("A tiled run removes exactly the points of the untiled run", "[dynamic][pipeline][tiles]") {
+TEST_CASE("A tiled run removes exactly the points of the untiled run", "[dynamic][pipeline][tiles][heavy]") {
     const fs::path root = sceneRoot("tiled");
     Report untiled, tiled;
     Pipeline::fromString(yaml("adaptive", true), "untiled", root)->run(root / "untiled", untiled, true);

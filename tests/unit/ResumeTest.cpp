@@ -211,7 +211,7 @@ std::string tileWith(const std::string& subdir, const std::string& skip = "") {
 }  // namespace
 
 TEST_CASE("a run killed after its 1st, 3rd or last tile resumes to an uninterrupted run's outputs",
-          "[resume][tiles]") {
+          "[resume][tiles][heavy]") {
     const fs::path ref = reference();
     const std::size_t total = journaledTiles(ref);
     REQUIRE(total >= 6);
@@ -299,7 +299,7 @@ TEST_CASE("a corrupted and a deleted tile file: exactly those two tiles are redo
 }
 
 TEST_CASE("a changed semantic option or voxel size redoes every tile and says why",
-          "[resume][tiles]") {
+          "[resume][tiles][heavy]") {
     const fs::path ref = reference();
     const std::size_t total = journaledTiles(ref);
     const fs::path dir = freshDir("changed");
@@ -326,7 +326,7 @@ TEST_CASE("a changed semantic option or voxel size redoes every tile and says wh
 }
 
 TEST_CASE("without --resume, a run on an interrupted run's folder says so and starts afresh",
-          "[resume][tiles]") {
+          "[resume][tiles][heavy]") {
     const fs::path dir = freshDir("afresh");
     const Run killed = run(dir, {}, killAfter(2));
     REQUIRE(killed.code == -SIGKILL);

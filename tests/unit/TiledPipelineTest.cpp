@@ -93,7 +93,7 @@ fs::path streetRoot(const std::string& test, std::size_t frames = 6, double size
 
 }  // namespace
 
-TEST_CASE("A tiled run gives the untiled mesh and labels, tile by tile", "[tiles][pipeline]") {
+TEST_CASE("A tiled run gives the untiled mesh and labels, tile by tile", "[tiles][pipeline][heavy]") {
     const fs::path root = streetRoot("agree");
     // Small tiles (6.4 m, 32 voxels) so that most faces lie near a border. With a halo as wide
     // as the street, each tile's MRF sees everything and only the decomposition differs; with
@@ -210,7 +210,7 @@ TEST_CASE("A tiled run gives the untiled mesh and labels, tile by tile", "[tiles
 }
 
 TEST_CASE("A streamed tiled run finishes tiles before the last scan, with the same outputs",
-          "[tiles][pipeline][stream]") {
+          "[tiles][pipeline][stream][heavy]") {
     // 60 m of street in 12 frames; a 20 m range filter makes the tiles near the start
     // unreachable by the later scans, so they can be finished early.
     const fs::path root = streetRoot("stream", 12, 60.0);

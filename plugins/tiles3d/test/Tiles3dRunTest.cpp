@@ -267,7 +267,7 @@ TEST_CASE("A tiled run's tileset follows the 3D Tiles rules; leaves are the sema
 }
 
 TEST_CASE("Each parent's distance to the full-resolution mesh is at most its geometricError",
-          "[tiles3d][run]") {
+          "[tiles3d][run][heavy]") {
     const fs::path base = tiledRun() / "3dtiles";
     const json tileset = json::parse(readBytes(base / "tileset.json"));
     std::mt19937 rng(3);
@@ -345,7 +345,7 @@ TEST_CASE("A geo-reference out of range is a configuration error naming key and 
 
 #ifdef VDBMAP_MPIEXEC
 TEST_CASE("Under vdbmap-mpi -np 2 the tileset is byte-identical to the single-process run's",
-          "[tiles3d][run][mpi]") {
+          "[tiles3d][run][mpi][heavy]") {
     const fs::path reference = tiledRun();
     const fs::path out = workDir() / ("mpi." + std::to_string(::getpid()));
     fs::remove_all(out);
