@@ -40,6 +40,7 @@ struct EvalArgs {
     std::string run_dir;
     std::string json_path;
     std::string error_ply;
+    std::string render_dir;
     std::string seq_dir;
     std::string dataset_yaml;
     std::vector<std::string> dataset_sets;
@@ -472,7 +473,23 @@ struct TextureResult {
     vdbmap::TextureMetrics metrics;
 };
 
-TextureResult computeTexture(const fs::path& obj_path, const fs::path& views_dir, const GroundTruth& gt) {
+/// Writes each held-out view's render, its ground truth and their absolute difference (times 4)
+/// side by side into render_dir/view_NNNNNN.png (top to bottom), to look at.
+void writeTextureRenders(const fs::path& render_dir, const std::vector<vdbmap::GtView>& views,
+                         const std::vector<cv::Mat>& images, const std::vector<cv::Mat>& renders) {
+    fs::create_directories(render_dir);
+    for (std::size_t i = 0; i < renders.size(); ++i) {
+        cv::Mat diff;
+        cv::absdiff(renders[i], images[i], diff);
+        diff.convertTo(diff, CV_8UC3, 4.0);
+        cv::Mat stacked;
+        cv::vconcat(std::vector<cv::Mat>{renders[i], images[i], diff}, stacked);
+        vdbmap::writePng(render_dir / views[i].image, stacked);
+    }
+}
+
+TextureResult computeTexture(const fs::path& obj_path, const fs::path& views_dir, const GroundTruth& gt,
+                             const std::string& render_dir) {
     TextureResult r;
     r.mesh_path = obj_path;
     vdbmap::ObjMesh obj;
@@ -481,14 +498,18 @@ TextureResult computeTexture(const fs::path& obj_path, const fs::path& views_dir
     const auto views = vdbmap::readGtViews(views_dir);
     std::vector<cv::Mat> images;
     for (const auto& v : views) images.push_back(vdbmap::readColorImage(views_dir / v.image));
-    r.metrics = vdbmap::evaluateTexture(obj, textures, views, images, gt.raycaster.get());
+    std::vector<cv::Mat> renders;
+    r.metrics = vdbmap::evaluateTexture(obj, textures, views, images, gt.raycaster.get(),
+                                        render_dir.empty() ? nullptr : &renders);
+    if (!render_dir.empty()) writeTextureRenders(render_dir, views, images, renders);
     return r;
 }
 
 nlohmann::json textureJson(const TextureResult& r) {
     const vdbmap::TextureMetrics& t = r.metrics;
     return {{"mesh", r.mesh_path.string()}, {"views", t.views},  {"pixels_compared", t.pixels_compared},
-            {"coverage", t.coverage},       {"mae", t.mae},      {"psnr_db", t.psnr_db}};
+            {"coverage", t.coverage},       {"mae", t.mae},      {"psnr_db", t.psnr_db},
+            {"view_psnr_db", t.view_psnr_db}};
 }
 
 void textureTable(const TextureResult& r, std::ostringstream& table) {
@@ -544,7 +565,7 @@ void runEval(const EvalArgs& args, int& exit_code) {
     const fs::path obj_path = run / "textured" / "mesh.obj";
     const fs::path views_dir = gt_dir / "views";
     if (fs::exists(obj_path) && fs::exists(views_dir / "views.json")) {
-        const TextureResult t = computeTexture(obj_path, views_dir, gt);
+        const TextureResult t = computeTexture(obj_path, views_dir, gt, args.render_dir);
         report["texture"] = textureJson(t);
         textureTable(t, table);
     } else {
@@ -578,6 +599,9 @@ void addEvalCommand(CLI::App& app, int& exit_code) {
     cmd->add_option("--json", args->json_path, "Write the metrics as JSON to this file");
     cmd->add_option("--error-ply", args->error_ply,
                     "Write the run's mesh with per-vertex error colours (blue 0 -> red max tau)");
+    cmd->add_option("--render-dir", args->render_dir,
+                    "Write each held-out view's render, ground truth and difference (x4), top to "
+                    "bottom, as DIR/view_NNNNNN.png");
     cmd->add_option("--tau", args->tau, "F-score thresholds in metres, comma-separated")
         ->capture_default_str();
     cmd->add_option("--cutoff", args->cutoff_m,

@@ -157,7 +157,7 @@ void SemanticMrfStage::declareOptions(OptionSpec& spec) {
              opt_.scan.margin_rel, 0.1);
     spec.add("scan_occlusion_dilate_px",
              "Scan occlusion: radius of the min filter that closes the gaps between the beams",
-             opt_.scan.dilate_px, 2, "px");
+             opt_.scan.dilate_px, 4, "px");
     spec.add("labels_file",
              "Label set file 'id, name, r g b' (overrides the dataset's; '' = dataset's or the "
              "docs/DATA.md default)",

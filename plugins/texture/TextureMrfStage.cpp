@@ -126,7 +126,7 @@ void TextureMrfStage::declareOptions(OptionSpec& spec) {
              scan_margin_rel_, 0.1);
     spec.add("scan_occlusion_dilate_px",
              "Scan occlusion: radius of the min filter that closes the gaps between the beams",
-             scan_dilate_px_, 2, "px");
+             scan_dilate_px_, 4, "px");
     spec.add("fill",
              "Faces no view saw: 'smooth' (colours diffused from the textured border, a sparse "
              "Laplace solve), 'neighbour' (colour of the nearest textured face) or 'grey'",

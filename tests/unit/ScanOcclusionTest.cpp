@@ -61,11 +61,12 @@ Vec3f centroid(const MeshArrays& mesh, std::size_t f) {
 /// LiDAR-like returns from the origin: rays every `step_deg` in azimuth and elevation, each
 /// hitting the nearest of the wall z = 10 m and the box front z = 5 m (x in [-2, -0.5],
 /// y in [-1, 1]) if `with_box`. Points in C = W.
-std::vector<Vec3f> scanWallAndBox(bool with_box, double step_deg) {
+std::vector<Vec3f> scanWallAndBox(bool with_box, double step_deg, double az_step_deg = 0) {
     std::vector<Vec3f> points;
     const double step = step_deg * kPi / 180.0;
+    const double az_step = (az_step_deg > 0 ? az_step_deg : step_deg) * kPi / 180.0;
     for (double el = -0.5; el <= 0.5; el += step) {
-        for (double az = -0.7; az <= 0.7; az += step) {
+        for (double az = -0.7; az <= 0.7; az += az_step) {
             const Vec3d dir(std::tan(az), std::tan(el), 1.0);  // z = 1
             Vec3d hit = 10.0 * dir;
             const Vec3d box = 5.0 * dir;
@@ -113,6 +114,40 @@ TEST_CASE("a wall behind a box the scan saw is hidden, the rest is not", "[rende
             CHECK(removed == 0);
         }
     }
+}
+
+TEST_CASE("the default filter closes an HDL-64's ring gaps at KITTI's focal length", "[render][scan_occlusion]") {
+    // The lower block of an HDL-64 has its rings 0.5 degrees apart and returns every 0.09
+    // degrees of azimuth: 6.3 px between the rings at KITTI's 721.5 px focal length. Each face
+    // is tested at 4 samples; a min filter of radius r covers a gap of 2 r px, so r = 2 (the
+    // default before issue 33's traffic runs) leaves wall samples behind the box unhidden
+    // between the rings, and r = 4 (the default) hides every face of the box's shadow.
+    View view = frontView();
+    view.intrinsics.fx = view.intrinsics.fy = 721.5377;
+    MeshArrays mesh;  // the wall z = 10 m behind the box, 0.1 m cells over its shadow
+    addGrid(mesh, 40, 50, [](int i, int j) { return Vec3f(-4.5f + 0.1f * i, -2.5f + 0.1f * j, 10.0f); });
+    const auto scan = scanWallAndBox(true, 0.5, 0.09);
+    auto hiddenDeepInside = [&](const vdbmap::ScanOcclusionOptions& options) {
+        vdbmap::Visibility vis = seenByOneView(mesh);
+        vdbmap::removeScanOccluded(vis, mesh, {view}, [&](std::size_t) { return scan; }, options);
+        std::size_t inside = 0, hidden = 0;
+        for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+            const Vec3f c = centroid(mesh, f);
+            if (c.x() > -3.8f && c.x() < -1.2f && std::abs(c.y()) < 1.8f) {
+                ++inside;
+                hidden += vis.count(f) == 0;
+            }
+        }
+        return std::make_pair(hidden, inside);
+    };
+    const vdbmap::ScanOcclusionOptions defaults;
+    CHECK(defaults.dilate_px == 4);
+    const auto [hidden, inside] = hiddenDeepInside(defaults);
+    CHECK(inside > 800);
+    CHECK(hidden == inside);
+    vdbmap::ScanOcclusionOptions narrow;
+    narrow.dilate_px = 2;
+    CHECK(hiddenDeepInside(narrow).first < inside);
 }
 
 TEST_CASE("the ground does not hide itself up to 40 m", "[render][scan_occlusion]") {

@@ -53,7 +53,8 @@ void finishTextureMetrics(TextureMetrics& m, double sum_abs, double sum_sq,
 
 TextureMetrics evaluateTexture(const ObjMesh& pred, const std::vector<cv::Mat>& pred_textures,
                                const std::vector<GtView>& views,
-                               const std::vector<cv::Mat>& gt_images, const Raycaster* gt) {
+                               const std::vector<cv::Mat>& gt_images, const Raycaster* gt,
+                               std::vector<cv::Mat>* renders) {
     if (views.size() != gt_images.size()) {
         throw InvalidInput("evaluateTexture: " + std::to_string(views.size()) + " views but " +
                            std::to_string(gt_images.size()) + " images");
@@ -86,8 +87,22 @@ TextureMetrics evaluateTexture(const ObjMesh& pred, const std::vector<cv::Mat>& 
             cv::split(gt_images[i], channels);
             gt_surface = (channels[0] > 0) | (channels[1] > 0) | (channels[2] > 0);
         }
-        accumulateImageError(r.color, rendered_mask, gt_images[i], gt_surface, m, sum_abs,
-                             sum_sq, gt_pixels);
+        TextureMetrics view;
+        double view_abs = 0, view_sq = 0;
+        std::size_t view_gt_pixels = 0;
+        accumulateImageError(r.color, rendered_mask, gt_images[i], gt_surface, view, view_abs,
+                             view_sq, view_gt_pixels);
+        m.pixels_compared += view.pixels_compared;
+        sum_abs += view_abs;
+        sum_sq += view_sq;
+        gt_pixels += view_gt_pixels;
+        finishTextureMetrics(view, view_abs, view_sq, view_gt_pixels);
+        m.view_psnr_db.push_back(view.psnr_db);
+        if (renders) {
+            cv::Mat shown(r.color.size(), CV_8UC3, cv::Scalar(0, 0, 0));
+            r.color.copyTo(shown, rendered_mask);
+            renders->push_back(shown);
+        }
         ++m.views;
     }
     finishTextureMetrics(m, sum_abs, sum_sq, gt_pixels);

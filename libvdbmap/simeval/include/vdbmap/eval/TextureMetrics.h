@@ -21,6 +21,8 @@ struct TextureMetrics {
     /// 10 log10(255^2 / MSE) over the compared pixels and channels; capped at kMaxPsnrDb for
     /// identical images (MSE = 0).
     double psnr_db = 0;
+    /// The PSNR of each view alone (same rule), in the order of the views.
+    std::vector<double> view_psnr_db;
     static constexpr double kMaxPsnrDb = 100.0;
 };
 
@@ -40,9 +42,11 @@ void finishTextureMetrics(TextureMetrics& metrics, double sum_abs, double sum_sq
 /// every view and compares it with the view's image where both the render and the ground truth
 /// have surface. The ground-truth surface comes from `gt` (a Raycaster on the ground-truth
 /// mesh) if non-null, else from non-black gt pixels. `gt_images[i]` belongs to `views[i]`.
-/// Throws InvalidInput if sizes disagree.
+/// `renders` (optional) receives each view's render (8-bit BGR, black where the prediction has no
+/// surface), to look at. Throws InvalidInput if sizes disagree.
 TextureMetrics evaluateTexture(const ObjMesh& pred, const std::vector<cv::Mat>& pred_textures,
                                const std::vector<GtView>& views,
-                               const std::vector<cv::Mat>& gt_images, const Raycaster* gt);
+                               const std::vector<cv::Mat>& gt_images, const Raycaster* gt,
+                               std::vector<cv::Mat>* renders = nullptr);
 
 }  // namespace vdbmap

@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
+# Issue 33's targets on the textured street with and without traffic (docs/results/traffic.md,
+# "The targets"): held-out texture PSNR, geometry F@5 cm, ghost area, for the drive with
+# `--traffic 4` against the same drive without traffic. config/experiments/texture.yaml (ATSDF,
+# marching cubes, texture.mrf with every colour step), moving-object removal as shipped but
+# without the simulator's moving labels (the free-space test and the object level alone), then
+# with them, then off. One row per run: its eval.json's figures (scripts/experiments/table.py).
+# Usage: scripts/experiments/traffic_texture.sh [BUILD_DIR] [OUT_DIR] [extra --set ...]
+set -euo pipefail
+BUILD=${1:-build}
+OUT=${2:-out/traffic_texture}
+shift $(( $# > 2 ? 2 : $# ))
+SIM="$BUILD/bin/vdbmap-sim"
+VDBMAP="$BUILD/bin/vdbmap"
+CFG=config/experiments/texture.yaml
+mkdir -p "$OUT"
+[ -d "$OUT/sim_t4" ] || "$SIM" street --traffic 4 --seed 1 -q -o "$OUT/sim_t4"
+[ -d "$OUT/sim_t0" ] || "$SIM" street --seed 1 -q -o "$OUT/sim_t0"
+row() {  # name seq extra-args...
+    local name=$1 seq=$2; shift 2
+    "$VDBMAP" run "$CFG" --quiet --set dataset.path="$(realpath "$seq")" "$@" -o "$OUT/$name" > /dev/null
+    # Ghosts against the traffic drive's movers (the no-traffic run gives the measure's floor).
+    "$VDBMAP" eval --gt "$OUT/sim_t4/gt" --run "$OUT/$name" --json "$OUT/$name/eval_t4.json" --quiet > /dev/null
+    "$VDBMAP" eval --gt "$seq/gt" --run "$OUT/$name" --json "$OUT/$name/eval.json" --quiet > /dev/null
+    python3 - "$OUT/$name" "$name" <<'PY'
+import json, sys
+d, name = sys.argv[1], sys.argv[2]
+e = json.load(open(d + "/eval.json")); t = json.load(open(d + "/eval_t4.json")).get("traffic", {})
+g = e["geometry"]; tx = e.get("texture", {})
+f5 = [m["fscore"] for m in g["fscore"] if abs(m["tau_m"] - 0.05) < 1e-9]
+r = json.load(open(d + "/report.json"))
+s = r["stages"]["integrate.atsdf"]
+print(name, "F@5cm", f5[0], "PSNR", tx.get("psnr_db"),
+      "coverage", tx.get("coverage"), "ghost_m2", t.get("ghost_area_m2"), "ghost_fraction", t.get("ghost_fraction"),
+      "integrate_s", s.get("seconds"), "removal_s", s.get("dynamic_removal", {}).get("seconds"))
+PY
+}
+NOLAB="--set integrate.atsdf.dynamic_use_labels=false"
+row t0 "$OUT/sim_t0" $NOLAB "$@"
+row t4 "$OUT/sim_t4" $NOLAB "$@"
+row t4_labels "$OUT/sim_t4" "$@"
+row t4_off "$OUT/sim_t4" --set integrate.atsdf.dynamic_removal=false "$@"
