@@ -156,8 +156,20 @@ void SemanticMrfStage::declareOptions(OptionSpec& spec) {
     spec.add("scan_occlusion_margin_rel", "Scan occlusion: relative depth margin (see _margin_m)",
              opt_.scan.margin_rel, 0.1);
     spec.add("scan_occlusion_dilate_px",
-             "Scan occlusion: radius of the min filter that closes the gaps between the beams",
-             opt_.scan.dilate_px, 4, "px");
+             "Scan occlusion: radius of the min filter along image rows that closes the gaps "
+             "between a ring's returns",
+             opt_.scan.row_dilate_px, 2, "px");
+    spec.add("scan_occlusion_gap_px",
+             "Scan occlusion: the empty pixels of a column between two returns at most this many "
+             "empty rows apart take the farther return (the gap between two rings)",
+             opt_.scan.gap_px, 8, "px");
+    spec.add("scan_occlusion_moving_margin_m",
+             "Scan occlusion: a return removed as moving (integrate.atsdf dynamic_removal) hides "
+             "a face at depth z when nearer than z - this (it cannot be the face itself)",
+             opt_.scan.moving_margin_m, 0.1, "m");
+    spec.add("scan_occlusion_moving_dilate_px",
+             "Scan occlusion: radius of the min filter over the moving returns",
+             opt_.scan.moving_dilate_px, 6, "px");
     spec.add("labels_file",
              "Label set file 'id, name, r g b' (overrides the dataset's; '' = dataset's or the "
              "docs/DATA.md default)",
@@ -207,12 +219,20 @@ void SemanticMrfStage::initialize() {
     }
     if (opt_.max_sweeps < 1) failConfig("option 'max_sweeps' must be >= 1, got " + std::to_string(opt_.max_sweeps));
     if (opt_.scan.margin_m < 0 || !(opt_.scan.margin_rel >= 0 && opt_.scan.margin_rel < 1) ||
-        opt_.scan.dilate_px < 0 || opt_.scan.dilate_px > 32) {
+        opt_.scan.row_dilate_px < 0 || opt_.scan.row_dilate_px > 32 || opt_.scan.gap_px < 0 ||
+        opt_.scan.gap_px > 64) {
         failConfig("options 'scan_occlusion_margin_m' >= 0, 'scan_occlusion_margin_rel' in "
-                   "[0, 1) and 'scan_occlusion_dilate_px' in [0, 32], got " +
+                   "[0, 1), 'scan_occlusion_dilate_px' in [0, 32] and 'scan_occlusion_gap_px' in "
+                   "[0, 64], got " +
                    std::to_string(opt_.scan.margin_m) + ", " +
                    std::to_string(opt_.scan.margin_rel) + ", " +
-                   std::to_string(opt_.scan.dilate_px));
+                   std::to_string(opt_.scan.row_dilate_px) + ", " + std::to_string(opt_.scan.gap_px));
+    }
+    if (!(opt_.scan.moving_margin_m >= 0) || opt_.scan.moving_dilate_px < 0 || opt_.scan.moving_dilate_px > 32) {
+        failConfig("options 'scan_occlusion_moving_margin_m' >= 0 and "
+                   "'scan_occlusion_moving_dilate_px' in [0, 32], got " +
+                   std::to_string(opt_.scan.moving_margin_m) + ", " +
+                   std::to_string(opt_.scan.moving_dilate_px));
     }
     try {
         checkVisibilityOptions(opt_.visibility);

@@ -16,6 +16,7 @@
 #include "vdbmap/mesh/MeshArrays.h"
 #include "vdbmap/pipeline/Context.h"
 #include "vdbmap/pipeline/Tiling.h"
+#include "vdbmap/dynamic/MovingReturns.h"
 #include "vdbmap/render/ScanOcclusion.h"
 #include "vdbmap/render/VisibilitySetup.h"
 
@@ -111,9 +112,12 @@ ImageVotes imageVotes(const std::string& stage, Context& ctx, const VisibilityOp
     if (scan) {
         // No vote from a view for a face something in front hid then (a moving car).
         Progress progress(stage + " scan occlusion", views.size(), ctx.quiet());
-        out.scan_hidden = removeScanOccluded(visibility,
-                                             meshArrays(ctx.mesh(), DeletedFaces::Collapse), views,
-                                             datasetViewScans(dataset, views), *scan, &progress);
+        // The returns removed as moving hide by a tighter rule (ScanOcclusionOptions::moving_*).
+        const auto moving = ctx.movingReturns();
+        out.scan_hidden = removeScanOccluded(
+            visibility, meshArrays(ctx.mesh(), DeletedFaces::Collapse), views,
+            datasetViewScans(dataset, views), *scan, &progress,
+            moving ? movingViewScans(dataset, views, *moving) : ViewScanFn{});
         progress.finish();
     }
     out.visibility_s = step.elapsedSeconds();

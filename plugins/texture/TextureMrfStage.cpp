@@ -19,6 +19,7 @@
 #include "vdbmap/pipeline/Tiling.h"
 #include "vdbmap/core/Progress.h"
 #include "vdbmap/render/Raycaster.h"
+#include "vdbmap/dynamic/MovingReturns.h"
 #include "vdbmap/render/ScanOcclusion.h"
 #include "vdbmap/render/Visibility.h"
 #include "vdbmap/render/VisibilitySetup.h"
@@ -125,8 +126,20 @@ void TextureMrfStage::declareOptions(OptionSpec& spec) {
     spec.add("scan_occlusion_margin_rel", "Scan occlusion: relative depth margin (see _margin_m)",
              scan_margin_rel_, 0.1);
     spec.add("scan_occlusion_dilate_px",
-             "Scan occlusion: radius of the min filter that closes the gaps between the beams",
-             scan_dilate_px_, 4, "px");
+             "Scan occlusion: radius of the min filter along image rows that closes the gaps "
+             "between a ring's returns",
+             scan_dilate_px_, 2, "px");
+    spec.add("scan_occlusion_gap_px",
+             "Scan occlusion: the empty pixels of a column between two returns at most this many "
+             "empty rows apart take the farther return (the gap between two rings)",
+             scan_gap_px_, 8, "px");
+    spec.add("scan_occlusion_moving_margin_m",
+             "Scan occlusion: a return removed as moving (integrate.atsdf dynamic_removal) hides "
+             "a face at depth z when nearer than z - this (it cannot be the face itself)",
+             scan_moving_margin_m_, 0.1, "m");
+    spec.add("scan_occlusion_moving_dilate_px",
+             "Scan occlusion: radius of the min filter over the moving returns", scan_moving_dilate_px_,
+             6, "px");
     spec.add("fill",
              "Faces no view saw: 'smooth' (colours diffused from the textured border, a sparse "
              "Laplace solve), 'neighbour' (colour of the nearest textured face) or 'grey'",
@@ -180,11 +193,16 @@ void TextureMrfStage::initialize() {
                    seam_space_ + "'");
     }
     if (scan_margin_m_ < 0 || !(scan_margin_rel_ >= 0 && scan_margin_rel_ < 1) ||
-        scan_dilate_px_ < 0 || scan_dilate_px_ > 32) {
-        failConfig("options 'scan_occlusion_margin_m' >= 0, 'scan_occlusion_margin_rel' in [0, 1) "
-                   "and 'scan_occlusion_dilate_px' in [0, 32], got " +
+        scan_dilate_px_ < 0 || scan_dilate_px_ > 32 || scan_gap_px_ < 0 || scan_gap_px_ > 64) {
+        failConfig("options 'scan_occlusion_margin_m' >= 0, 'scan_occlusion_margin_rel' in [0, 1), "
+                   "'scan_occlusion_dilate_px' in [0, 32] and 'scan_occlusion_gap_px' in [0, 64], got " +
                    std::to_string(scan_margin_m_) + ", " + std::to_string(scan_margin_rel_) +
-                   ", " + std::to_string(scan_dilate_px_));
+                   ", " + std::to_string(scan_dilate_px_) + ", " + std::to_string(scan_gap_px_));
+    }
+    if (!(scan_moving_margin_m_ >= 0) || scan_moving_dilate_px_ < 0 || scan_moving_dilate_px_ > 32) {
+        failConfig("options 'scan_occlusion_moving_margin_m' >= 0 and "
+                   "'scan_occlusion_moving_dilate_px' in [0, 32], got " +
+                   std::to_string(scan_moving_margin_m_) + ", " + std::to_string(scan_moving_dilate_px_));
     }
     if (exposure_gains_ != "auto" && exposure_gains_ != "true" && exposure_gains_ != "false") {
         failConfig("option 'exposure_gains' must be 'auto', 'true' or 'false', got '" +
@@ -372,11 +390,17 @@ void TextureMrfStage::run(Context& ctx) {
         ScanOcclusionOptions scan_options;
         scan_options.margin_m = scan_margin_m_;
         scan_options.margin_rel = scan_margin_rel_;
-        scan_options.dilate_px = scan_dilate_px_;
+        scan_options.row_dilate_px = scan_dilate_px_;
+        scan_options.gap_px = scan_gap_px_;
+        scan_options.moving_margin_m = scan_moving_margin_m_;
+        scan_options.moving_dilate_px = scan_moving_dilate_px_;
         Timer scan_timer;
         Progress progress(stage + " scan occlusion", views.size(), ctx.quiet());
+        // The returns removed as moving hide by a tighter rule (ScanOcclusionOptions::moving_*).
+        const auto moving = ctx.movingReturns();
         const std::size_t hidden = removeScanOccluded(
-            vis, mesh, views, datasetViewScans(dataset, views), scan_options, &progress);
+            vis, mesh, views, datasetViewScans(dataset, views), scan_options, &progress,
+            moving ? movingViewScans(dataset, views, *moving) : ViewScanFn{});
         progress.finish();
         report.stage(stage, "scan_hidden_observations", hidden);
         report.set({"stages", stage, "timings_s", "scan_occlusion"}, scan_timer.elapsedSeconds());

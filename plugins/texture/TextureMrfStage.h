@@ -45,7 +45,10 @@ private:
     bool scan_occlusion_ = true;
     double scan_margin_m_ = 0.3;
     double scan_margin_rel_ = 0.1;
-    int scan_dilate_px_ = 4;
+    int scan_dilate_px_ = 2;
+    int scan_gap_px_ = 8;
+    double scan_moving_margin_m_ = 0.1;
+    int scan_moving_dilate_px_ = 6;
     std::string seam_space_ = "log_luminance";
     double seam_max_log_difference_ = 0.1;
     bool photo_consistency_ = true;

@@ -116,12 +116,12 @@ TEST_CASE("a wall behind a box the scan saw is hidden, the rest is not", "[rende
     }
 }
 
-TEST_CASE("the default filter closes an HDL-64's ring gaps at KITTI's focal length", "[render][scan_occlusion]") {
+TEST_CASE("the default gap fill closes an HDL-64's ring gaps at KITTI's focal length", "[render][scan_occlusion]") {
     // The lower block of an HDL-64 has its rings 0.5 degrees apart and returns every 0.09
     // degrees of azimuth: 6.3 px between the rings at KITTI's 721.5 px focal length. Each face
-    // is tested at 4 samples; a min filter of radius r covers a gap of 2 r px, so r = 2 (the
-    // default before issue 33's traffic runs) leaves wall samples behind the box unhidden
-    // between the rings, and r = 4 (the default) hides every face of the box's shadow.
+    // is tested at 4 samples; without closing the ring gaps (gap_px 0, as the 2 px square
+    // filter before issue 33's traffic runs) wall samples behind the box between the rings stay
+    // unhidden; the default (gap_px 8) hides every face of the box's shadow.
     View view = frontView();
     view.intrinsics.fx = view.intrinsics.fy = 721.5377;
     MeshArrays mesh;  // the wall z = 10 m behind the box, 0.1 m cells over its shadow
@@ -141,12 +141,12 @@ TEST_CASE("the default filter closes an HDL-64's ring gaps at KITTI's focal leng
         return std::make_pair(hidden, inside);
     };
     const vdbmap::ScanOcclusionOptions defaults;
-    CHECK(defaults.dilate_px == 4);
+    CHECK(defaults.gap_px == 8);
     const auto [hidden, inside] = hiddenDeepInside(defaults);
     CHECK(inside > 800);
     CHECK(hidden == inside);
     vdbmap::ScanOcclusionOptions narrow;
-    narrow.dilate_px = 2;
+    narrow.gap_px = 0;
     CHECK(hiddenDeepInside(narrow).first < inside);
 }
 
@@ -168,6 +168,81 @@ TEST_CASE("the ground does not hide itself up to 40 m", "[render][scan_occlusion
     const std::size_t removed = vdbmap::removeScanOccluded(
         vis, mesh, {frontView()}, [&](std::size_t) { return scan; }, {});
     CHECK(removed == 0);
+}
+
+TEST_CASE("returns removed as moving hide the road under a car, the road before it stays", "[render][scan_occlusion]") {
+    // Camera and LiDAR at the origin, 1.7 m above the ground (image y down: the ground is
+    // y = +1.7). A car's rear face stands on the ground at z = 8 m (x in [-1, 1], 1.6 m high);
+    // rings every 0.4 degrees, returns every 0.1 degrees. The road just behind the rear face is
+    // hidden from the camera by the car, but only a few tens of centimetres behind the face's
+    // returns: the general rule (10 % + 0.3 m) cannot hide it, the moving rule (0.1 m) does.
+    MeshArrays mesh;  // the road x in [-4, 4], z in [2, 14], 0.2 m cells
+    addGrid(mesh, 40, 60, [](int i, int j) { return Vec3f(-4.0f + 0.2f * i, 1.7f, 2.0f + 0.2f * j); });
+    std::vector<Vec3f> scan, car;
+    for (double el_deg = -10.0; el_deg <= 40.0; el_deg += 0.4) {
+        const double t = std::tan(el_deg * kPi / 180.0);  // y / z of the ray (down positive)
+        for (double az_deg = -40; az_deg <= 40; az_deg += 0.1) {
+            const double tx = std::tan(az_deg * kPi / 180.0);
+            // The rear face z = 8: x = 8 tx, y = 8 t.
+            if (std::abs(8.0 * tx) <= 1.0 && 8.0 * t >= 0.1 && 8.0 * t <= 1.7) {
+                car.emplace_back(static_cast<float>(8.0 * tx), static_cast<float>(8.0 * t), 8.0f);
+                scan.push_back(car.back());
+            } else if (t > 0.0) {
+                const double z = 1.7 / t;
+                scan.emplace_back(static_cast<float>(z * tx), 1.7f, static_cast<float>(z));
+            }
+        }
+    }
+    const std::vector<View> views = {frontView()};
+    auto keptAfter = [&](bool with_moving) {
+        vdbmap::Visibility vis = seenByOneView(mesh);
+        vdbmap::removeScanOccluded(
+            vis, mesh, views, [&](std::size_t) { return scan; }, {}, nullptr,
+            with_moving ? vdbmap::ViewScanFn([&](std::size_t) { return car; }) : vdbmap::ViewScanFn{});
+        std::vector<char> kept(mesh.faces.size());
+        for (std::size_t f = 0; f < mesh.faces.size(); ++f) kept[f] = vis.count(f) == 1;
+        return kept;
+    };
+    const auto general = keptAfter(false), moving = keptAfter(true);
+    std::size_t under = 0, under_hidden_general = 0, under_hidden_moving = 0, before_hidden = 0;
+    for (std::size_t f = 0; f < mesh.faces.size(); ++f) {
+        const Vec3f c = centroid(mesh, f);
+        // Behind the rear face, in the car's shadow: x within the car, z in (8.2, 9.5).
+        if (std::abs(c.x()) < 0.8f && c.z() > 8.2f && c.z() < 9.5f) {
+            ++under;
+            under_hidden_general += !general[f];
+            under_hidden_moving += !moving[f];
+        }
+        // Visible: before the car (z < 7.9), or seen past its side: the camera ray passes the
+        // rear face's plane z = 8 more than 0.15 m (9 px, beyond the 6 px moving filter) beside it.
+        const float x_at_car = c.x() * 8.0f / c.z();
+        if (c.z() < 7.9f || std::abs(x_at_car) > 1.15f) before_hidden += !moving[f] + !general[f];
+    }
+    CHECK(under >= 40);
+    CHECK(under_hidden_moving == under);
+    CHECK(under_hidden_general < under / 2);
+    CHECK(before_hidden == 0);
+}
+
+TEST_CASE("the bracketed depth image fills a ring gap with the farther ring", "[render][scan_occlusion]") {
+    const View view = frontView();
+    // Column 320: returns at rows 240 (8 m) and 246 (10 m), 6 rows apart; column 330: only
+    // one return at row 240 (a ring's last: nothing below it).
+    auto at = [](double x_px, double y_px, float z) {
+        return Vec3f(static_cast<float>((x_px - 319.5) * z / 500.0), static_cast<float>((y_px - 239.5) * z / 500.0), z);
+    };
+    const std::vector<Vec3f> points = {at(320, 240, 8), at(320, 246, 10), at(330, 240, 5)};
+    const auto filled = vdbmap::bracketedScanDepthImage(points, view.intrinsics, 0, 5);
+    for (int y = 241; y <= 245; ++y) CHECK(filled.at(320, y) == 10.0f);  // the farther ring
+    CHECK(filled.at(320, 240) == 8.0f);                                   // returns keep their own
+    CHECK(std::isinf(filled.at(320, 247)));
+    CHECK(std::isinf(filled.at(330, 241)));                               // no return below
+    const auto narrow = vdbmap::bracketedScanDepthImage(points, view.intrinsics, 0, 4);
+    CHECK(std::isinf(narrow.at(320, 243)));                               // 5 empty rows > 4
+    const auto rows = vdbmap::bracketedScanDepthImage(points, view.intrinsics, 2, 0);
+    CHECK(rows.at(322, 240) == 8.0f);                                     // along the row only
+    CHECK(std::isinf(rows.at(320, 242)));
+    CHECK_THROWS_AS(vdbmap::bracketedScanDepthImage(points, view.intrinsics, 0, -1), vdbmap::InvalidInput);
 }
 
 TEST_CASE("the scan depth image keeps the nearest return and min-filters it", "[render][scan_occlusion]") {

@@ -25,6 +25,10 @@ public:
     }
     /// The map (integrate.atsdf, before its first scan: streamed tiles read it).
     static void setMap(Context& ctx, std::shared_ptr<VoxelMap> map) { ctx.map_ = std::move(map); }
+    /// The moving returns (integrate.atsdf, before its first scan, with its removal on).
+    static void setMovingReturns(Context& ctx, std::shared_ptr<const MovingReturns> moving) {
+        ctx.moving_ = std::move(moving);
+    }
     /// The tile of a per-tile context (the pipeline; tests that build one by hand).
     static void setTile(Context& ctx, std::shared_ptr<const Tile> tile) { ctx.tile_ = std::move(tile); }
     /// The pipeline's side of streaming (tiled runs); nullptr ends it.
@@ -33,13 +37,14 @@ public:
     }
     /// The pipeline's side of streaming, or nullptr (untiled runs).
     static const ScanStream* scanStream(const Context& ctx) { return ctx.stream_.get(); }
-    /// A context for one tile of a tiled run: the same dataset, map and flags, the tile's
+    /// A context for one tile of a tiled run: the same dataset, map, moving returns and flags, the tile's
     /// folder and report, no mesh yet.
     static std::unique_ptr<Context> tileContext(const Context& ctx, std::filesystem::path tile_dir,
                                                 Report& tile_report, std::shared_ptr<const Tile> tile) {
         auto out = std::make_unique<Context>(std::move(tile_dir), tile_report, ctx.quiet_);
         out->dataset_ = ctx.dataset_;
         out->map_ = ctx.map_;
+        out->moving_ = ctx.moving_;
         out->tile_ = std::move(tile);
         return out;
     }

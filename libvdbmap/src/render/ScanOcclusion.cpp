@@ -5,10 +5,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "vdbmap/Error.h"
 #include "vdbmap/core/Progress.h"
+#include "vdbmap/dynamic/MovingReturns.h"
 #include "vdbmap/io/Dataset.h"
 
 namespace vdbmap {
@@ -36,7 +38,53 @@ void minFilter1d(std::vector<float>& image, int width, int height, int r, bool a
     }
 }
 
+/// Fills each empty pixel (+inf) between two returns of its column at most r empty rows apart
+/// with the farther of the two: the gap between two rings.
+void bracketFillColumns(std::vector<float>& image, int width, int height, int r) {
+    const float inf = std::numeric_limits<float>::infinity();
+    std::vector<float> above(static_cast<std::size_t>(height));
+    std::vector<int> above_row(static_cast<std::size_t>(height));
+    for (int x = 0; x < width; ++x) {
+        auto at = [&](int y) -> float& { return image[static_cast<std::size_t>(y) * width + x]; };
+        float last = inf;
+        int last_row = -(1 << 20);
+        for (int y = 0; y < height; ++y) {  // the nearest return above each pixel
+            if (at(y) != inf) {
+                last = at(y);
+                last_row = y;
+            }
+            above[static_cast<std::size_t>(y)] = last;
+            above_row[static_cast<std::size_t>(y)] = last_row;
+        }
+        last = inf;
+        last_row = 1 << 20;
+        for (int y = height - 1; y >= 0; --y) {  // and below, filling as we go up
+            const float own = at(y);
+            if (own != inf) {
+                last = own;
+                last_row = y;
+                continue;
+            }
+            if (last_row - above_row[static_cast<std::size_t>(y)] - 1 <= r) {
+                at(y) = std::max(above[static_cast<std::size_t>(y)], last);
+            }
+        }
+    }
+}
+
 }  // namespace
+
+ScanDepthImage bracketedScanDepthImage(const std::vector<Vec3f>& points_C,
+                                       const CameraIntrinsics& intrinsics, int dilate_px,
+                                       int gap_px) {
+    if (gap_px < 0) {
+        throw InvalidInput("bracketedScanDepthImage: gap_px " + std::to_string(gap_px) + " (need >= 0)");
+    }
+    ScanDepthImage depth = scanDepthImage(points_C, intrinsics, 0);
+    if (dilate_px > 0) minFilter1d(depth.depth_m, depth.width, depth.height, dilate_px, true);
+    if (gap_px > 0) bracketFillColumns(depth.depth_m, depth.width, depth.height, gap_px);
+    return depth;
+}
 
 ScanDepthImage scanDepthImage(const std::vector<Vec3f>& points_C,
                               const CameraIntrinsics& intrinsics, int dilate_px) {
@@ -69,7 +117,8 @@ ScanDepthImage scanDepthImage(const std::vector<Vec3f>& points_C,
 }
 
 bool faceHiddenByScan(const ScanDepthImage& depth, const std::array<Vec3d, 3>& corners_C,
-                      const CameraIntrinsics& intrinsics, const ScanOcclusionOptions& options) {
+                      const CameraIntrinsics& intrinsics, const ScanOcclusionOptions& options,
+                      const ScanDepthImage* moving) {
     const Vec3d centroid = (corners_C[0] + corners_C[1] + corners_C[2]) / 3.0;
     const std::array<Vec3d, 4> samples = {centroid, centroid + 0.7 * (corners_C[0] - centroid),
                                           centroid + 0.7 * (corners_C[1] - centroid),
@@ -78,17 +127,20 @@ bool faceHiddenByScan(const ScanDepthImage& depth, const std::array<Vec3d, 3>& c
     Vec2d pixel;
     for (const Vec3d& s : samples) {
         if (!intrinsics.project(s, pixel)) continue;
-        const float scan_z = depth.at(static_cast<int>(std::lround(pixel.x())),
-                                      static_cast<int>(std::lround(pixel.y())));
+        const int x = static_cast<int>(std::lround(pixel.x()));
+        const int y = static_cast<int>(std::lround(pixel.y()));
         const double limit = s.z() * (1.0 - options.margin_rel) - options.margin_m;
-        if (scan_z < limit) ++hidden;
+        if (depth.at(x, y) < limit || (moving && moving->at(x, y) < s.z() - options.moving_margin_m)) {
+            ++hidden;
+        }
     }
     return hidden >= std::ceil(options.min_hidden_fraction * samples.size() - 1e-9) && hidden > 0;
 }
 
 std::size_t removeScanOccluded(Visibility& vis, const MeshArrays& mesh,
                                const std::vector<View>& views, const ViewScanFn& scan_of_view,
-                               const ScanOcclusionOptions& options, Progress* progress) {
+                               const ScanOcclusionOptions& options, Progress* progress,
+                               const ViewScanFn& moving_of_view) {
     if (vis.numFaces() != mesh.faces.size()) {
         throw InvalidInput("removeScanOccluded: visibility covers " +
                            std::to_string(vis.numFaces()) + " faces but the mesh has " +
@@ -115,8 +167,12 @@ std::size_t removeScanOccluded(Visibility& vis, const MeshArrays& mesh,
     tbb::parallel_for(std::size_t{0}, views.size(), [&](std::size_t v) {
         if (!per_view[v].empty()) {
             const View& view = views[v];
-            const ScanDepthImage depth =
-                scanDepthImage(scan_of_view(v), view.intrinsics, options.dilate_px);
+            const ScanDepthImage depth = bracketedScanDepthImage(
+                scan_of_view(v), view.intrinsics, options.row_dilate_px, options.gap_px);
+            ScanDepthImage moving;
+            if (moving_of_view) {
+                moving = scanDepthImage(moving_of_view(v), view.intrinsics, options.moving_dilate_px);
+            }
             for (const std::uint64_t i : per_view[v]) {
                 const auto& face = mesh.faces[face_of[i]];
                 std::array<Vec3d, 3> corners_C;
@@ -124,7 +180,8 @@ std::size_t removeScanOccluded(Visibility& vis, const MeshArrays& mesh,
                     corners_C[static_cast<std::size_t>(k)] =
                         view.T_C_W * mesh.vertices_W[face[static_cast<std::size_t>(k)]].cast<double>();
                 }
-                hidden[i] = faceHiddenByScan(depth, corners_C, view.intrinsics, options);
+                hidden[i] = faceHiddenByScan(depth, corners_C, view.intrinsics, options,
+                                             moving_of_view ? &moving : nullptr);
             }
         }
         if (progress) progress->tick();
@@ -165,6 +222,19 @@ ViewScanFn datasetViewScans(const Dataset& dataset, const std::vector<View>& vie
         std::vector<Vec3f> points_C;
         points_C.reserve(scan_L.size());
         for (const Vec3f& p : scan_L.points) points_C.push_back(T_C_L * p);
+        return points_C;
+    };
+}
+
+ViewScanFn movingViewScans(const Dataset& dataset, const std::vector<View>& views,
+                           const MovingReturns& moving) {
+    return [&dataset, &views, &moving](std::size_t v) {
+        const View& view = views.at(v);
+        const std::vector<Vec3f> points_W = moving.frame(nearestScanFrame(dataset, view.frame));
+        const Eigen::Isometry3f T_C_W = view.T_C_W.cast<float>();
+        std::vector<Vec3f> points_C;
+        points_C.reserve(points_W.size());
+        for (const Vec3f& p : points_W) points_C.push_back(T_C_W * p);
         return points_C;
     };
 }

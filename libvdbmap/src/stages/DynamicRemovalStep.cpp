@@ -8,6 +8,7 @@
 #include "vdbmap/io/Dataset.h"
 #include "vdbmap/pipeline/Context.h"
 #include "vdbmap/pipeline/Report.h"
+#include "pipeline/ContextBuilder.h"
 
 namespace vdbmap::detail {
 
@@ -105,10 +106,12 @@ void declareDynamicOptions(OptionSpec& spec, DynamicRemovalConfig& c) {
              c.use_labels, true);
 }
 
-DynamicRemovalStep::DynamicRemovalStep(const Context& ctx, const DynamicRemovalConfig& config) {
+DynamicRemovalStep::DynamicRemovalStep(Context& ctx, const DynamicRemovalConfig& config) {
     if (!config.enabled) return;
     dataset_ = &ctx.dataset();
     detector_ = std::make_unique<DynamicDetector>(ctx.dataset(), config);
+    moving_ = std::make_shared<MovingReturns>();
+    ContextBuilder::setMovingReturns(ctx, moving_);
 }
 
 ScanFilter DynamicRemovalStep::filter() {
@@ -120,11 +123,14 @@ ScanFilter DynamicRemovalStep::filter() {
         const Isometry3d& T_W_L = dataset_->frame(frame).T_W_L;
         const Eigen::Matrix3f R = T_W_L.linear().cast<float>();
         const Vec3f t = T_W_L.translation().cast<float>();
+        std::vector<Vec3f> moving_W;
         keepPoints(cloud, [&](std::size_t i) {
             if (!dynamic[i]) return true;
-            removed_.add(R * cloud.points[i] + t, static_cast<std::uint32_t>(frame), index[i]);
+            moving_W.push_back(R * cloud.points[i] + t);
+            removed_.add(moving_W.back(), static_cast<std::uint32_t>(frame), index[i]);
             return false;
         });
+        moving_->set(frame, std::move(moving_W));
     };
 }
 

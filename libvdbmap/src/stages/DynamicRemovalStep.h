@@ -6,6 +6,7 @@
 
 #include "vdbmap/dynamic/DynamicDetector.h"
 #include "vdbmap/dynamic/DynamicPoints.h"
+#include "vdbmap/dynamic/MovingReturns.h"
 #include "vdbmap/map/IntegrateDataset.h"
 
 namespace vdbmap {
@@ -22,8 +23,9 @@ void declareDynamicOptions(OptionSpec& spec, DynamicRemovalConfig& config);
 /// points of each scan before integration and keeps them, then the outputs.
 class DynamicRemovalStep {
 public:
-    /// Without `config.enabled` the filter is empty and finish() writes nothing.
-    DynamicRemovalStep(const Context& ctx, const DynamicRemovalConfig& config);
+    /// Without `config.enabled` the filter is empty and finish() writes nothing. With it, the
+    /// context gets the moving returns the filter fills (Context::movingReturns()).
+    DynamicRemovalStep(Context& ctx, const DynamicRemovalConfig& config);
     /// The filter for integrateDataset (empty when disabled).
     ScanFilter filter();
     /// Writes `dynamic_points.ply` (a part file per process in a distributed run, merged by
@@ -35,6 +37,7 @@ private:
     const Dataset* dataset_ = nullptr;
     std::unique_ptr<DynamicDetector> detector_;
     DynamicPoints removed_;
+    std::shared_ptr<MovingReturns> moving_;
 };
 
 }  // namespace vdbmap::detail

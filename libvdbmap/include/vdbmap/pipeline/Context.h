@@ -18,6 +18,7 @@ class Report;
 class ScanStream;
 struct Tile;
 class ContextBuilder;
+class MovingReturns;
 
 /// Everything stages share: the dataset (read-only), the map, the mesh, the report, the output
 /// folder and the run flags. Stages share state only through this object.
@@ -73,6 +74,11 @@ public:
     const TriMesh& occluderMesh() const { return occluder_ ? *occluder_ : mesh(); }
     void setOccluderMesh(std::shared_ptr<const TriMesh> mesh) { occluder_ = std::move(mesh); }
 
+    /// The returns integrate.atsdf removed as moving, per frame (docs/dynamic.md), or nullptr
+    /// when its moving-object removal is off or no stage integrated scans. In a streamed tiled
+    /// run it is complete for the frames of a tile's views when the tile's stages run.
+    std::shared_ptr<const MovingReturns> movingReturns() const { return moving_; }
+
     /// True in the per-tile contexts of a tiled run.
     bool hasTile() const { return tile_ != nullptr; }
     /// The tile (key, core and halo bounds in W, assigned views). Throws Error if untiled.
@@ -120,6 +126,7 @@ private:
     std::shared_ptr<TriMesh> mesh_;
     std::shared_ptr<const Tile> tile_;
     std::shared_ptr<const TriMesh> occluder_;
+    std::shared_ptr<const MovingReturns> moving_;
     std::shared_ptr<ScanStream> stream_;
 };
 
