@@ -5,7 +5,7 @@
 # `--traffic 4` against the same drive without traffic. config/experiments/texture.yaml (ATSDF,
 # marching cubes, texture.mrf with every colour step), moving-object removal as shipped but
 # without the simulator's moving labels (the free-space test and the object level alone), then
-# with them, then off. One row per run: its eval.json's figures (scripts/experiments/table.py).
+# with them, then off; then at 0.05 m and in 20 m tiles. One row per run.
 # Usage: scripts/experiments/traffic_texture.sh [BUILD_DIR] [OUT_DIR] [extra --set ...]
 set -euo pipefail
 BUILD=${1:-build}
@@ -41,3 +41,10 @@ row t0 "$OUT/sim_t0" $NOLAB "$@"
 row t4 "$OUT/sim_t4" $NOLAB "$@"
 row t4_labels "$OUT/sim_t4" "$@"
 row t4_off "$OUT/sim_t4" --set integrate.atsdf.dynamic_removal=false "$@"
+# 0.05 m voxels, and 20 m tiles (merged into the untiled outputs, which vdbmap eval scores).
+FIVE="--set integrate.atsdf.voxel_size_m=0.05"
+TILED="--set tiling.tile_size_m=20 --set tiling.halo_m=4 --set tiling.merge=true"
+row t0_5cm "$OUT/sim_t0" $NOLAB $FIVE "$@"
+row t4_5cm "$OUT/sim_t4" $NOLAB $FIVE "$@"
+row t0_tiled "$OUT/sim_t0" $NOLAB $TILED "$@"
+row t4_tiled "$OUT/sim_t4" $NOLAB $TILED "$@"
