@@ -2,7 +2,8 @@
 // Tiles in flight side by side (issue 37): a tiled run whose finished tiles' texture and
 // semantic stages run as tasks beside the integration writes byte for byte the files of the
 // run that finishes one tile after the other; the memory budget bounds the tiles in flight;
-// a failing tile task fails the run naming the tile, and no tiles.json is written.
+// a failing tile task fails the run naming the tile, and no tiles.json is written. The
+// journal's order and the resume are covered by ResumeTest (which runs tiles in flight).
 #include <catch2/catch.hpp>
 
 #include <filesystem>
@@ -45,24 +46,21 @@ std::string yaml(const std::string& tiling_extra, const std::string& semantic_ex
            tiling_extra + "}\n";
 }
 
-fs::path streetRoot() {
-    static const fs::path root = [] {
-        setLogLevel(LogLevel::Warn);
-        const fs::path r = fs::path(VDBMAP_BINARY_DIR) / "test_scratch" / "tiles_in_flight";
-        fs::remove_all(r);
-        SimOptions sim;
-        sim.frames = 12;
-        sim.size_m = 60.0;
-        sim.gt_views = 0;
-        sim.quiet = true;
-        writeSimSequence(sim, r / "seq");
-        return r;
-    }();
-    return root;
+/// The street in a folder of the test case's own (ctest runs test cases in parallel).
+fs::path streetRoot(const std::string& test) {
+    setLogLevel(LogLevel::Warn);
+    const fs::path r = fs::path(VDBMAP_BINARY_DIR) / "test_scratch" / ("tiles_in_flight_" + test);
+    fs::remove_all(r);
+    SimOptions sim;
+    sim.frames = 12;
+    sim.size_m = 60.0;
+    sim.gt_views = 0;
+    sim.quiet = true;
+    writeSimSequence(sim, r / "seq");
+    return r;
 }
 
-nlohmann::json run(const std::string& name, const std::string& tiling_extra) {
-    const fs::path root = streetRoot();
+nlohmann::json run(const fs::path& root, const std::string& name, const std::string& tiling_extra) {
     fs::remove_all(root / name);
     Report report;
     Pipeline::fromString(yaml(tiling_extra), name, root)->run(root / name, report, true);
@@ -72,16 +70,19 @@ nlohmann::json run(const std::string& name, const std::string& tiling_extra) {
 }  // namespace
 
 TEST_CASE("Tiles in flight write the files of one tile after the other", "[tiles][pipeline][inflight]") {
-    const fs::path root = streetRoot();
-    const nlohmann::json one = run("one", ", max_tiles_in_flight: 1");
+    const fs::path root = streetRoot("same");
+    const nlohmann::json one = run(root, "one", ", max_tiles_in_flight: 1");
+    const nlohmann::json three = run(root, "three", ", max_tiles_in_flight: 3, memory_budget_gb: 64");
     // stream: false finishes every tile after the last scan: they are launched in a burst.
-    const nlohmann::json three = run("three", ", max_tiles_in_flight: 3, memory_budget_gb: 64");
     const nlohmann::json burst =
-        run("burst", ", max_tiles_in_flight: 3, memory_budget_gb: 64, stream: false");
+        run(root, "burst", ", max_tiles_in_flight: 3, memory_budget_gb: 64, stream: false");
+    // A budget below the process's own memory: one tile at a time, in tasks (one always runs).
+    const nlohmann::json tight =
+        run(root, "tight", ", max_tiles_in_flight: 3, memory_budget_gb: 0.001, stream: false");
 
     const auto expected = filesBelow(root / "one" / "tiles");
     REQUIRE(expected.size() > 20);
-    for (const char* other : {"three", "burst"}) {
+    for (const char* other : {"three", "burst", "tight"}) {
         INFO(other);
         const auto files = filesBelow(root / other / "tiles");
         CHECK(files.size() == expected.size());
@@ -93,14 +94,17 @@ TEST_CASE("Tiles in flight write the files of one tile after the other", "[tiles
         CHECK(readText(root / other / "tiles.json") == readText(root / "one" / "tiles.json"));
         CHECK(vdbVoxels(root / other / "map.vdb") == vdbVoxels(root / "one" / "map.vdb"));
     }
-    // The journal holds every tile, whatever the order they finished in.
-    for (const nlohmann::json* r : {&one, &three, &burst}) {
+        for (const nlohmann::json* r : {&one, &three, &burst, &tight}) {
         CHECK((*r)["tiling"]["in_flight"]["most_tiles_in_flight"].get<int>() <=
               (*r)["tiling"]["in_flight"]["max_tiles_in_flight"].get<int>());
     }
     CHECK(one["tiling"]["in_flight"]["most_tiles_in_flight"] == 1);
     CHECK(three["tiling"]["in_flight"]["max_tiles_in_flight"] == 3);
     CHECK(burst["tiling"]["in_flight"]["most_tiles_in_flight"].get<int>() >= 2);
+    CHECK(tight["tiling"]["in_flight"]["most_tiles_in_flight"] == 1);
+    CHECK(tight["tiling"]["in_flight"]["launches_waited"].get<int>() > 0);
+    CHECK(tight["tiling"]["in_flight"]["memory_budget_bytes"].get<double>() ==
+          Approx(0.001 * 1024 * 1024 * 1024).epsilon(1e-6));
     // Each tile's estimate is in its report; a tile run alone also gets its own peak.
     for (const auto& [name, tile] : one["tiles"].items()) {
         INFO(name);
@@ -109,19 +113,9 @@ TEST_CASE("Tiles in flight write the files of one tile after the other", "[tiles
     }
 }
 
-TEST_CASE("The memory budget keeps tiles from running side by side", "[tiles][pipeline][inflight]") {
-    // A budget below the process's own memory: one tile at a time (one always runs).
-    const nlohmann::json r = run("tight", ", max_tiles_in_flight: 3, memory_budget_gb: 0.001");
-    CHECK(r["tiling"]["in_flight"]["most_tiles_in_flight"] == 1);
-    CHECK(r["tiling"]["in_flight"]["launches_waited"].get<int>() > 0);
-    CHECK(r["tiling"]["in_flight"]["memory_budget_bytes"].get<double>() ==
-          Approx(0.001 * 1024 * 1024 * 1024).epsilon(1e-6));
-    CHECK(r["status"]["state"] == "done");
-}
-
 TEST_CASE("A failing tile task fails the run naming the tile, without tiles.json",
           "[tiles][pipeline][inflight]") {
-    const fs::path root = streetRoot();
+    const fs::path root = streetRoot("fail");
     fs::remove_all(root / "fail");
     // label_grid is refused in tiled runs: semantic.mrf fails in every tile's task.
     Report report;
