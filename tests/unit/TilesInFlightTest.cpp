@@ -30,7 +30,7 @@ std::string plugin(const char* name) {
         .string();
 }
 
-/// 60 m of street in 12 frames, 6.4 m tiles: a dozen tiles, most finished while scans come in.
+/// 40 m of street in 8 frames, 6.4 m tiles: about a dozen tiles, most finished while scans come in.
 std::string yaml(const std::string& tiling_extra, const std::string& semantic_extra = "") {
     return "dataset: {format: kitti, path: seq, min_range_m: 1.0, max_range_m: 20}\n"
            "plugins: [\"" + plugin("texture") + "\", \"" + plugin("semantic") + "\"]\n"
@@ -52,8 +52,8 @@ fs::path streetRoot(const std::string& test) {
     const fs::path r = fs::path(VDBMAP_BINARY_DIR) / "test_scratch" / ("tiles_in_flight_" + test);
     fs::remove_all(r);
     SimOptions sim;
-    sim.frames = 12;
-    sim.size_m = 60.0;
+    sim.frames = 8;
+    sim.size_m = 40.0;
     sim.gt_views = 0;
     sim.quiet = true;
     writeSimSequence(sim, r / "seq");
