@@ -7,6 +7,7 @@
 set(VDBMAP_TEST_COSTS
     TiledPipelineTest 400
     MpiRunTest 300
+    TilesInFlightTest 150
     LidarLabelStageTest 200
     AdaptiveVsFixedTest 70
     FaultTest 50

@@ -137,11 +137,12 @@ nlohmann::json comparableReport(const fs::path& dir) {
             for (auto it = j.begin(); it != j.end();) {
                 const std::string& key = it.key();
                 // Times, rates and memory: "wall_time_s", "seconds", "ms_per_scan",
-                // "faces_per_s_mrf", "timings_s", "peak_memory_bytes".
-                const bool timing = key == "timings" || key == "seconds" ||
+                // "faces_per_s_mrf", "timings_s", "peak_memory_bytes", "memory_estimate_bytes";
+                // how the tiles ran side by side ("in_flight": tasks, waits).
+                const bool timing = key == "timings" || key == "seconds" || key == "in_flight" ||
                                     key.rfind("ms_", 0) == 0 ||
                                     key.find("per_s") != std::string::npos ||
-                                    key.find("peak_memory") != std::string::npos ||
+                                    key.find("memory") != std::string::npos ||
                                     (key.size() > 2 && key.compare(key.size() - 2, 2, "_s") == 0);
                 if (timing) {
                     it = j.erase(it);

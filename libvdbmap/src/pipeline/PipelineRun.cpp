@@ -4,6 +4,9 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <set>
+
+#include <tbb/global_control.h>
 #include <system_error>
 #include <tuple>
 
@@ -14,6 +17,7 @@
 #include "pipeline/PipelineImpl.h"
 #include "pipeline/RunJournal.h"
 #include "pipeline/TileStream.h"
+#include "pipeline/TileTasks.h"
 #include "vdbmap/Error.h"
 #include "vdbmap/core/Log.h"
 #include "vdbmap/core/Timer.h"
@@ -320,17 +324,58 @@ private:
         }
         const std::size_t untiled_end = tiled ? pipeline_.firstTiledStage() : p_.stages.size();
         if (tiled) startTileStream(untiled_end);
-        std::string timings = "[]";
-        for (std::size_t i = 0; i < untiled_end; ++i) {
-            detail::runStage(p_.stages[i], i, p_.stages.size(), *ctx_, current_, &timings,
-                             &tile_seconds_);
+        try {
+            std::string timings = "[]";
+            for (std::size_t i = 0; i < untiled_end; ++i) {
+                detail::runStage(p_.stages[i], i, p_.stages.size(), *ctx_, current_, &timings,
+                                 &tile_seconds_);
+            }
+            if (tiled) {
+                current_ = "tiling";
+                stream_->finishAll();
+                current_ = "tiling";
+            }
+        } catch (...) {
+            // Tiles still in flight use the stages and the context: they end first.
+            if (stream_) stream_->abandon();
+            throw;
         }
         if (tiled) {
-            current_ = "tiling";
-            stream_->finishAll();
-            current_ = "tiling";
+            report_.setJson({"tiling", "in_flight"}, stream_->inFlightJson());
             if (p_.tiling.merge) mergeUntiled(untiled_end);
         }
+    }
+
+    /// The first tiled stage from which on no stage reads the map (a layer an untiled stage
+    /// wrote, such as tsdf): those stages may run beside the integration.
+    std::size_t asyncFrom(std::size_t first_tiled) const {
+        std::set<std::string> map_layers;
+        for (std::size_t i = 0; i < first_tiled; ++i) {
+            for (const auto& l : p_.stages[i].layers.writtenLayers()) map_layers.insert(l);
+        }
+        map_layers.erase(layers::kMesh);
+        map_layers.insert(layers::kTsdf);
+        std::size_t from = first_tiled;
+        for (std::size_t i = first_tiled; i < p_.stages.size(); ++i) {
+            for (const auto& l : p_.stages[i].layers.readLayers()) {
+                if (map_layers.count(l) > 0) from = i + 1;
+            }
+        }
+        return from;
+    }
+
+    /// tiling.max_tiles_in_flight (0: the threads the run may use) and the memory budget
+    /// (tiling.memory_budget_gb; 0: half of MemAvailable now).
+    std::pair<std::size_t, std::size_t> inFlightLimits() const {
+        std::size_t n = static_cast<std::size_t>(p_.tiling.max_tiles_in_flight);
+        if (n == 0) {
+            n = tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
+        }
+        const double gib = 1024.0 * 1024.0 * 1024.0;
+        const std::size_t budget = p_.tiling.memory_budget_gb > 0.0
+                                       ? static_cast<std::size_t>(p_.tiling.memory_budget_gb * gib)
+                                       : memAvailableBytes() / 2;
+        return {std::max<std::size_t>(1, n), budget};
     }
 
     void openDataset() {
@@ -356,6 +401,12 @@ private:
         TileStream::Setup setup;
         setup.stages = &p_.stages;
         setup.first = first_tiled;
+        setup.async_from = asyncFrom(first_tiled);
+        std::tie(setup.max_in_flight, setup.memory_budget_bytes) = inFlightLimits();
+        if (setup.async_from >= p_.stages.size()) setup.max_in_flight = 1;
+        logInfo("tiling: up to " + std::to_string(setup.max_in_flight) +
+                " tiles in flight, memory budget " +
+                std::to_string(setup.memory_budget_bytes / (1024 * 1024)) + " MiB");
         setup.tiling = &p_.tiling;
         setup.tiling_where = &p_.tiling_where;
         setup.output = &p_.output;

@@ -14,6 +14,7 @@
 #include "vdbmap/core/Timer.h"
 #include "vdbmap/io/MeshIO.h"
 #include "vdbmap/map/VoxelMap.h"
+#include "pipeline/TileTasks.h"
 #include "vdbmap/mesh/TileFaces.h"
 #include "vdbmap/pipeline/Context.h"
 #include "vdbmap/pipeline/Report.h"
@@ -58,90 +59,150 @@ std::size_t coreFaceCount(const Context& ctx) {
     return static_cast<std::size_t>(std::count(halo.begin(), halo.end(), 0));
 }
 
-/// What one finished tile leaves behind: its index entry and its report entry.
-/// runTile without the error prefix.
-TileOutcome runTileStages(std::vector<PipelineStage>& stages, std::size_t first,
-                          const OutputConfig& output, Context& ctx,
-                          const std::shared_ptr<const Tile>& tile, long finished_after_frame,
-                          std::string& current) {
-    const fs::path dir = ctx.outputDir() / "tiles" / tile->name();
-    std::error_code ec;
-    // Files an earlier attempt at this tile left (a killed or changed run) would otherwise
-    // stay in its folder and its index entry. The run holds the folder's lock.
-    fs::remove_all(dir, ec);
-    fs::create_directories(dir, ec);
-    if (ec) throw IoError(dir.string() + ": cannot create the tile folder: " + ec.message());
-    resetPeakMemoryWindow();
-    Timer timer;
-    const double cpu_before = processCpuTimeS();
-    Report tile_report;
+}  // namespace
+
+TileRun::TileRun(std::vector<PipelineStage>& stages, std::size_t first, std::size_t async_from,
+                 const OutputConfig& output, Context& ctx, std::shared_ptr<const Tile> tile,
+                 long finished_after_frame, bool memory_window)
+    : stages_(stages), first_(first), async_from_(std::max(first, async_from)), output_(output),
+      ctx_(ctx), tile_(std::move(tile)), finished_after_frame_(finished_after_frame),
+      memory_window_(memory_window), dir_(ctx.outputDir() / "tiles" / tile_->name()) {}
+
+TileRun::~TileRun() = default;
+
+bool TileRun::runStages(std::size_t from, std::size_t to, std::string& current) {
+    for (std::size_t i = from; i < to && !stopped_; ++i) {
+        runStage(stages_[i], i, stages_.size(), *tctx_, current, nullptr);
+        // A tile with no surface of its own ends here (tiles are created on demand).
+        if (tctx_->hasMesh() && coreFaceCount(*tctx_) == 0) stopped_ = true;
+    }
+    return !stopped_;
+}
+
+void TileRun::runMapStages(std::string& current) {
+    try {
+        std::error_code ec;
+        // Files an earlier attempt at this tile left (a killed or changed run) would otherwise
+        // stay in its folder and its index entry. The run holds the folder's lock.
+        fs::remove_all(dir_, ec);
+        fs::create_directories(dir_, ec);
+        if (ec) throw IoError(dir_.string() + ": cannot create the tile folder: " + ec.message());
+        if (memory_window_) resetPeakMemoryWindow();
+        rss_before_ = currentRssBytes();
+        timer_.reset();
+        cpu_before_ = processCpuTimeS();
+        tctx_ = ContextBuilder::tileContext(ctx_, dir_, report_, tile_);
+        runStages(first_, async_from_, current);
+        // The later stages may run beside the integration: they get a map without voxels (its
+        // voxel size and transform only), never the map being integrated (docs/tiling.md).
+        if (ctx_.hasMap()) {
+            ContextBuilder::setMap(*tctx_, std::make_shared<VoxelMap>(ctx_.map().voxelSize()));
+        }
+    } catch (const std::exception& e) {
+        const std::string stage = current;
+        current = "tile " + tile_->name() + " / " + current;
+        rethrowInTile(e, tile_->name(), stage);
+    }
+}
+
+std::size_t TileRun::estimateBytes() const {
+    if (!tctx_ || stopped_) return 0;
+    const std::size_t faces = tctx_->hasMesh() ? tctx_->mesh().n_faces() : 0;
+    const std::size_t occluder_faces = tctx_->hasMesh() ? tctx_->occluderMesh().n_faces() : 0;
+    return estimateTilePeakBytes(faces, occluder_faces, tile_->views.size());
+}
+
+std::size_t estimateTilePeakBytes(std::size_t faces, std::size_t occluder_faces, std::size_t views) {
+    // The memory a tile's stages add at their peak; checked against the 16 tiles of a 400 m
+    // street at 0.10 m run one at a time (docs/benchmarks/scale.md, "Tiles in flight"): real
+    // 0.29 to 0.96 times this, never above (a least-squares refit: 1261 B per face, 319 B per
+    // occluder face, nothing measurable per view).
+    constexpr double kFixed = 64.0 * (1 << 20);
+    constexpr double kPerFace = 1200.0;
+    constexpr double kPerOccluderFace = 300.0;
+    constexpr double kPerView = 2.0 * (1 << 20);
+    return static_cast<std::size_t>(kFixed + kPerFace * static_cast<double>(faces) +
+                                    kPerOccluderFace * static_cast<double>(occluder_faces) +
+                                    kPerView * static_cast<double>(views));
+}
+
+TileOutcome TileRun::finish(std::string& current) {
+    try {
+        return finishStages(current);
+    } catch (const std::exception& e) {
+        const std::string stage = current;
+        current = "tile " + tile_->name() + " / " + current;
+        rethrowInTile(e, tile_->name(), stage);
+    }
+}
+
+TileOutcome TileRun::finishStages(std::string& current) {
+    const std::size_t estimate = estimateBytes();
     TileOutcome out;
-    out.name = tile->name();
-    out.ix = tile->ix;
-    out.iy = tile->iy;
-    {
-        std::unique_ptr<Context> tctx = ContextBuilder::tileContext(ctx, dir, tile_report, tile);
-        for (std::size_t i = first; i < stages.size(); ++i) {
-            runStage(stages[i], i, stages.size(), *tctx, current, nullptr);
-            // A tile with no surface of its own ends here (tiles are created on demand).
-            if (tctx->hasMesh() && coreFaceCount(*tctx) == 0) break;
-        }
-        if (tctx->hasMesh()) {
-            out.faces = coreFaceCount(*tctx);
-            out.halo_faces = tctx->mesh().n_faces() - out.faces;
-        }
-        out.empty = out.faces == 0;
-        if (!out.empty && tctx->hasMesh() && output.write_mesh) {
-            const TriMesh core = coreSubmesh(tctx->mesh());
-            writeMeshPly(dir / "mesh.ply", core);
-        }
-    }  // the tile's mesh, views and stage state are freed here
+    out.name = tile_->name();
+    out.ix = tile_->ix;
+    out.iy = tile_->iy;
+    runStages(async_from_, stages_.size(), current);
+    if (tctx_->hasMesh()) {
+        out.faces = coreFaceCount(*tctx_);
+        out.halo_faces = tctx_->mesh().n_faces() - out.faces;
+    }
+    out.empty = out.faces == 0;
+    if (!out.empty && tctx_->hasMesh() && output_.write_mesh) {
+        const TriMesh core = coreSubmesh(tctx_->mesh());
+        writeMeshPly(dir_ / "mesh.ply", core);
+    }
+    tctx_.reset();  // the tile's mesh, views and stage state are freed here
+    std::error_code ec;
     if (out.empty) {
-        fs::remove_all(dir, ec);
+        fs::remove_all(dir_, ec);
         return out;
     }
-    const double seconds = timer.elapsedSeconds();
-    const double cpu_seconds = processCpuTimeS() - cpu_before;
-    const nlohmann::json stage_figures = nlohmann::json::parse(tile_report.getJson({"stages"}));
-    const nlohmann::json index = {{"name", tile->name()},
-                 {"ix", tile->ix},
-                 {"iy", tile->iy},
-                 {"bounds_W", boxJson(tile->core_W)},
-                 {"halo_bounds_W", boxJson(tile->halo_W)},
-                 {"files", filesBelow(dir, ctx.outputDir())},
+    const Tile& tile = *tile_;
+    const double seconds = timer_.elapsedSeconds();
+    const double cpu_seconds = processCpuTimeS() - cpu_before_;
+    const nlohmann::json stage_figures = nlohmann::json::parse(report_.getJson({"stages"}));
+    const nlohmann::json index = {{"name", tile.name()},
+                 {"ix", tile.ix},
+                 {"iy", tile.iy},
+                 {"bounds_W", boxJson(tile.core_W)},
+                 {"halo_bounds_W", boxJson(tile.halo_W)},
+                 {"files", filesBelow(dir_, ctx_.outputDir())},
                  {"counts",
                   {{"faces", out.faces},
                    {"halo_faces", out.halo_faces},
-                   {"views", tile->views.size()},
-                   {"frames", tile->numFrames()}}}};
-    const nlohmann::json report = {{"frames", tile->numFrames()},
-                                   {"scan_frames", tile->scan_frames.size()},
-                                   {"views", tile->views.size()},
-                                   {"faces", out.faces},
-                                   {"halo_faces", out.halo_faces},
-                                   {"finished_after_frame", finished_after_frame},
-                                   {"wall_time_s", seconds},
-                                   {"cpu_time_s", cpu_seconds},
-                                   {"peak_memory_bytes", windowPeakMemoryBytes()},
-                                   {"stages", stage_figures}};
+                   {"views", tile.views.size()},
+                   {"frames", tile.numFrames()}}}};
+    nlohmann::json report = {{"frames", tile.numFrames()},
+                             {"scan_frames", tile.scan_frames.size()},
+                             {"views", tile.views.size()},
+                             {"faces", out.faces},
+                             {"halo_faces", out.halo_faces},
+                             {"finished_after_frame", finished_after_frame_},
+                             {"wall_time_s", seconds},
+                             {"cpu_time_s", cpu_seconds},
+                             {"memory_estimate_bytes", estimate},
+                             {"stages", stage_figures}};
+    if (memory_window_) {
+        // One tile at a time: the window is this tile's alone.
+        const std::size_t peak = windowPeakMemoryBytes();
+        report["peak_memory_bytes"] = peak;
+        report["memory_added_bytes"] = peak > rss_before_ ? peak - rss_before_ : 0;
+    } else {
+        report["peak_memory_bytes"] = peakMemoryBytes();
+    }
     out.index_json = index.dump();
     out.report_json = report.dump();
     return out;
 }
 
-}  // namespace
-
 TileOutcome runTile(std::vector<PipelineStage>& stages, std::size_t first,
                     const OutputConfig& output, Context& ctx,
                     const std::shared_ptr<const Tile>& tile, long finished_after_frame,
                     std::string& current) {
-    try {
-        return runTileStages(stages, first, output, ctx, tile, finished_after_frame, current);
-    } catch (const std::exception& e) {
-        const std::string stage = current;
-        current = "tile " + tile->name() + " / " + current;
-        rethrowInTile(e, tile->name(), stage);
-    }
+    TileRun run(stages, first, stages.size(), output, ctx, tile, finished_after_frame, true);
+    run.runMapStages(current);
+    return run.finish(current);
 }
 
 std::string tilesIndex(std::vector<TileOutcome> outcomes, const TileSummary& summary,

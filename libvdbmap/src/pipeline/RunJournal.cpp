@@ -104,6 +104,10 @@ JournalHeader JournalHeader::fromResolvedConfig(const std::string& resolved_conf
     if (h.config.contains("output") && h.config["output"].is_object()) {
         for (const char* key : {"dir", "write_report", "write_map"}) h.config["output"].erase(key);
     }
+    // How many tiles run at once changes no tile (issue 37).
+    if (h.config.contains("tiling") && h.config["tiling"].is_object()) {
+        for (const char* key : {"max_tiles_in_flight", "memory_budget_gb"}) h.config["tiling"].erase(key);
+    }
     for (const auto& stage : h.config.value("stages", nlohmann::json::array())) {
         const nlohmann::json options = stage.value("options", nlohmann::json::object());
         if (options.contains("voxel_size_m") && options["voxel_size_m"].is_number()) {

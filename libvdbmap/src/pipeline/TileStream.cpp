@@ -3,6 +3,7 @@
 
 #include "pipeline/RunJournal.h"
 
+#include <algorithm>
 #include <string>
 
 #include "vdbmap/core/Log.h"
@@ -12,6 +13,47 @@
 #include "vdbmap/pipeline/Context.h"
 
 namespace vdbmap::detail {
+
+TileStream::TileStream(const Setup& setup) : setup_(setup) {
+    if (setup_.max_in_flight > 1) {
+        tasks_ = std::make_unique<TileTasks>(setup_.max_in_flight, setup_.memory_budget_bytes,
+                                             [] { return currentRssBytes(); });
+    }
+}
+
+TileStream::~TileStream() { abandon(); }
+
+void TileStream::abandon() noexcept {
+    if (tasks_) tasks_->abandon();
+}
+
+template <typename F>
+void TileStream::tasksCall(F&& f) {
+    try {
+        f();
+    } catch (...) {
+        const std::string at = tasks_->failedAt();
+        if (!at.empty() && setup_.current) *setup_.current = at;
+        throw;
+    }
+}
+
+std::string TileStream::inFlightJson() const {
+    nlohmann::json j = {{"max_tiles_in_flight", setup_.max_in_flight},
+                        {"memory_budget_bytes", setup_.memory_budget_bytes},
+                        {"largest_tile_estimate_bytes", largest_estimate_}};
+    if (tasks_) {
+        const TileTasks::Figures f = tasks_->figures();
+        j["most_tiles_in_flight"] = f.max_in_flight;
+        j["largest_estimate_in_flight_bytes"] = f.max_estimate_bytes;
+        j["tasks"] = f.tasks;
+        j["launches_waited"] = f.waits;
+        j["launch_wait_s"] = f.wait_s;
+    } else {
+        j["most_tiles_in_flight"] = outcomes_.empty() && without_faces_ == 0 ? 0 : 1;
+    }
+    return j.dump();
+}
 
 void TileStream::makeGrid() {
     const Context& ctx = *setup_.ctx;
@@ -80,6 +122,7 @@ void TileStream::balanceResume() {
 }
 
 void TileStream::frameIntegrated(std::size_t frame) {
+    if (tasks_) tasksCall([&] { tasks_->poll(); });
     while (next_ < pending_.size() && pending_[next_]->finish_frame <= frame) {
         finish(*pending_[next_++], static_cast<long>(frame));
     }
@@ -106,6 +149,7 @@ void TileStream::finishAll() {
         if (setup_.ctx->hasDataset()) views_ = datasetViews(setup_.ctx->dataset(), false, false);
     }
     while (next_ < pending_.size()) finish(*pending_[next_++], -1);
+    if (tasks_) tasksCall([&] { tasks_->waitAll(); });
 }
 
 void TileStream::finish(const PlannedTile& planned, long after_frame) {
@@ -130,14 +174,34 @@ void TileStream::finish(const PlannedTile& planned, long after_frame) {
         if (setup_.tile_seconds) *setup_.tile_seconds += timer.elapsedSeconds();
         return;
     }
-    TileOutcome outcome = runTile(*setup_.stages, setup_.first, *setup_.output, ctx,
-                                  std::shared_ptr<const Tile>(tile), after_frame, *setup_.current);
+    const std::size_t async_from = tasks_ ? setup_.async_from : setup_.stages->size();
+    auto run = std::make_shared<TileRun>(*setup_.stages, setup_.first, async_from, *setup_.output,
+                                         ctx, std::shared_ptr<const Tile>(tile), after_frame,
+                                         !tasks_);
+    run->runMapStages(*setup_.current);
+    const std::size_t estimate = run->estimateBytes();
+    largest_estimate_ = std::max(largest_estimate_, estimate);
+    if (!tasks_) {
+        completed(run->finish(*setup_.current), inputs);
+    } else {
+        tasksCall([&] {
+            tasks_->launch(estimate, [this, run, inputs](std::string& at) {
+                TileOutcome outcome = run->finish(at);
+                completed(std::move(outcome), inputs);
+            });
+        });
+    }
+    if (setup_.tile_seconds) *setup_.tile_seconds += timer.elapsedSeconds();
+}
+
+void TileStream::completed(TileOutcome outcome, const nlohmann::json& inputs) {
+    std::lock_guard<std::mutex> lock(completed_mutex_);
+    // Journaled once its files are complete, in whatever order the tiles finish.
     if (setup_.journal) {
-        setup_.journal->append(tileEntry(inputs, outcome, ctx.outputDir()));
+        setup_.journal->append(tileEntry(inputs, outcome, setup_.ctx->outputDir()));
         testKillAfterTiles(setup_.journal->appended());
     }
     record(std::move(outcome));
-    if (setup_.tile_seconds) *setup_.tile_seconds += timer.elapsedSeconds();
 }
 
 void TileStream::record(TileOutcome outcome) {
@@ -166,6 +230,7 @@ bool TileStream::keep(const Tile& tile, const nlohmann::json& inputs) {
         return false;
     }
     decisions_.push_back({name, "kept", ""});
+    std::lock_guard<std::mutex> lock(completed_mutex_);
     record(it->second.outcome);
     return true;
 }

@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <vector>
@@ -13,8 +14,10 @@
 #include "vdbmap/pipeline/Report.h"
 #include "pipeline/PointRegion.h"
 #include "pipeline/ScanStream.h"
+#include "pipeline/TileTasks.h"
 #include "vdbmap/pipeline/TilePlan.h"
 #include "vdbmap/pipeline/Tiling.h"
+#include "vdbmap/core/Timer.h"
 #include "vdbmap/render/Visibility.h"
 
 namespace vdbmap {
@@ -58,6 +61,51 @@ TileOutcome runTile(std::vector<PipelineStage>& stages, std::size_t first,
                     const std::shared_ptr<const Tile>& tile, long finished_after_frame,
                     std::string& current);
 
+/// One tile's stages in two parts (issue 37): runMapStages() runs, on the integrating thread,
+/// the stages up to the last one reading a map layer (marching cubes), in the tile's own
+/// context below ctx (tiles/<name>/); finish() runs the others (texture, semantic, export) on
+/// any thread, with a map of no voxels in the context, writes the core mesh and frees the
+/// tile's mesh, views and stage state. Errors are rethrown with "tile <name>: " in front,
+/// same type. `memory_window`: the tile runs alone, its report gets its own peak memory.
+class TileRun {
+public:
+    TileRun(std::vector<PipelineStage>& stages, std::size_t first, std::size_t async_from,
+            const OutputConfig& output, Context& ctx, std::shared_ptr<const Tile> tile,
+            long finished_after_frame, bool memory_window);
+    ~TileRun();
+    TileRun(const TileRun&) = delete;
+    TileRun& operator=(const TileRun&) = delete;
+
+    void runMapStages(std::string& current);
+    /// The estimated peak memory finish() adds (estimateTilePeakBytes of the tile's mesh,
+    /// occluder mesh and views); 0 when the tile ended in runMapStages().
+    std::size_t estimateBytes() const;
+    TileOutcome finish(std::string& current);
+
+private:
+    bool runStages(std::size_t from, std::size_t to, std::string& current);
+    TileOutcome finishStages(std::string& current);
+
+    std::vector<PipelineStage>& stages_;
+    const std::size_t first_, async_from_;
+    const OutputConfig& output_;
+    Context& ctx_;
+    std::shared_ptr<const Tile> tile_;
+    const long finished_after_frame_;
+    const bool memory_window_;
+    const std::filesystem::path dir_;
+    Report report_;
+    std::unique_ptr<Context> tctx_;
+    bool stopped_ = false;  ///< no core face: the later stages do not run
+    Timer timer_;
+    double cpu_before_ = 0.0;
+    std::size_t rss_before_ = 0;
+};
+
+/// The memory (bytes) a tile's stages after marching cubes are estimated to add at their
+/// peak, from its faces (core and halo), occluder faces and views (docs/tiling.md).
+std::size_t estimateTilePeakBytes(std::size_t faces, std::size_t occluder_faces, std::size_t views);
+
 /// The tiles of one process of a tiled run (issue 13). When the integrating stage begins
 /// (Context::beginScanStream) it plans the tiles from the poses (TilePlan), keeps this
 /// process's, and returns the frames they need; after each integrated frame it finishes every
@@ -68,6 +116,12 @@ public:
     struct Setup {
         std::vector<PipelineStage>* stages = nullptr;
         std::size_t first = 0;  ///< the first tiled stage
+        /// The first tiled stage that reads no map layer and none after it does: it and the
+        /// later ones run in a task per tile, beside the integration (issue 37).
+        std::size_t async_from = 0;
+        /// Tiles in flight at most (1: each tile's stages run inside the integrating stage).
+        std::size_t max_in_flight = 1;
+        std::size_t memory_budget_bytes = 0;
         const TilingConfig* tiling = nullptr;
         const std::string* tiling_where = nullptr;  ///< "file:line:col" of `tiling:`
         const OutputConfig* output = nullptr;
@@ -91,7 +145,8 @@ public:
         std::string action;  ///< "kept", "redone" (its entry did not hold), "new" (no entry)
         std::string reason;
     };
-    explicit TileStream(const Setup& setup) : setup_(setup) {}
+    explicit TileStream(const Setup& setup);
+    ~TileStream() override;
 
     std::vector<std::size_t> begin(const Dataset& dataset, double update_reach_m) override;
     void frameIntegrated(std::size_t frame) override;
@@ -104,6 +159,11 @@ public:
     /// Finishes every tile not finished yet. Without begin() (no stage integrated scans
     /// through the stream) the tiles are those of the map's leaves, spread over the processes.
     void finishAll();
+
+    /// Waits for the tiles in flight, forgetting their errors (the run fails already).
+    void abandon() noexcept;
+    /// Tiles in flight: the figures (report.json "tiling.in_flight"), as JSON text.
+    std::string inFlightJson() const;
 
     /// The grid (after begin() or finishAll()).
     const TileGrid& grid() const { return *grid_; }
@@ -126,6 +186,11 @@ private:
     /// (returns true), else records why it is redone.
     bool keep(const Tile& tile, const nlohmann::json& inputs);
     void record(TileOutcome outcome);
+    /// A tile's stages are done: journal it, record it (any thread).
+    void completed(TileOutcome outcome, const nlohmann::json& inputs);
+    /// Runs `f` (a TileTasks call); a tile task's failure gets what it ran as `current`.
+    template <typename F>
+    void tasksCall(F&& f);
     /// The grid from the tiling config and the map's voxel size (ConfigError for a bad config).
     void makeGrid();
 
@@ -140,6 +205,9 @@ private:
     std::vector<TileOutcome> outcomes_;
     std::size_t without_faces_ = 0, without_leaves_ = 0;
     std::vector<ResumeDecision> decisions_;
+    std::mutex completed_mutex_;  ///< outcomes_, without_faces_, the journal
+    std::unique_ptr<TileTasks> tasks_;  ///< max_in_flight > 1
+    std::size_t largest_estimate_ = 0;
 };
 
 }  // namespace vdbmap::detail

@@ -60,6 +60,16 @@ void TilingConfig::declareOptions(OptionSpec& spec) {
              "World axis pointing up (tiles cut the other two): auto (the W axis closest to the "
              "LiDAR z axis of the first frame), x, y or z",
              up_axis, std::string("auto"));
+    spec.add("max_tiles_in_flight",
+             "Finished tiles whose texture, semantic and export stages run at the same time, as "
+             "tasks beside the integration (each tile's marching cubes runs on the integrating "
+             "thread); 0 = the number of threads. 1 = one after the other. Same outputs",
+             max_tiles_in_flight, std::int64_t(0));
+    spec.add("memory_budget_gb",
+             "Memory the tiles in flight are kept within: a tile starts only while the memory "
+             "of the process without tiles plus the estimated peaks of the tiles in flight fit "
+             "the budget (one tile always runs); 0 = half of MemAvailable at the start",
+             memory_budget_gb, 0.0, "GiB");
 }
 
 void TilingConfig::validate(double voxel_size_m, const std::string& where) const {
@@ -74,6 +84,13 @@ void TilingConfig::validate(double voxel_size_m, const std::string& where) const
     }
     if (!std::isfinite(occluder_margin_m) || occluder_margin_m < 0.0) {
         badValue(where, "occluder_margin_m", occluder_margin_m, "must be finite and >= 0");
+    }
+    if (max_tiles_in_flight < 0) {
+        badValue(where, "max_tiles_in_flight", static_cast<double>(max_tiles_in_flight),
+                 "must be >= 0 (0 = the number of threads)");
+    }
+    if (!std::isfinite(memory_budget_gb) || memory_budget_gb < 0.0) {
+        badValue(where, "memory_budget_gb", memory_budget_gb, "must be finite and >= 0 (0 = auto)");
     }
     if (merge_max_faces < 0) {
         badValue(where, "merge_max_faces", static_cast<double>(merge_max_faces), "must be >= 0");

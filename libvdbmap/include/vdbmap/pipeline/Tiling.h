@@ -33,6 +33,13 @@ struct TilingConfig {
     /// Finish each tile as soon as no later scan or view can change it (while the scans are
     /// still being integrated); false: every tile after the last scan. Same outputs.
     bool stream = true;
+    /// Finished tiles whose stages run side by side (after their marching cubes, in tasks
+    /// beside the integration); 0 = auto (the number of threads). Bounded by memory_budget_gb.
+    std::int64_t max_tiles_in_flight = 0;
+    /// Memory (GiB) the run keeps its tiles in flight within: a tile starts only while the
+    /// process's memory without tiles plus the estimated peaks of the tiles in flight fit
+    /// (one tile always runs); 0 = auto (half of MemAvailable at the start of the run).
+    double memory_budget_gb = 0.0;
 
     bool enabled() const { return tile_size_m > 0.0; }
     void declareOptions(OptionSpec& spec);
