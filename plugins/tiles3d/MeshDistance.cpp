@@ -10,46 +10,73 @@
 
 namespace vdbmap::tiles3d {
 
-double pointTriangleDistance(const Eigen::Vector3d& p, const Triangle& t) {
+Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Triangle& t) {
     const Eigen::Vector3d& a = t[0];
     const Eigen::Vector3d& b = t[1];
     const Eigen::Vector3d& c = t[2];
     const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
     const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-    if (d1 <= 0 && d2 <= 0) return (p - a).norm();
+    if (d1 <= 0 && d2 <= 0) return a;
     const Eigen::Vector3d bp = p - b;
     const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-    if (d3 >= 0 && d4 <= d3) return (p - b).norm();
+    if (d3 >= 0 && d4 <= d3) return b;
     const double vc = d1 * d4 - d3 * d2;
     if (vc <= 0 && d1 >= 0 && d3 <= 0) {
         const double v = d1 / (d1 - d3);
-        return (p - (a + v * ab)).norm();
+        return a + v * ab;
     }
     const Eigen::Vector3d cp = p - c;
     const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-    if (d6 >= 0 && d5 <= d6) return (p - c).norm();
+    if (d6 >= 0 && d5 <= d6) return c;
     const double vb = d5 * d2 - d1 * d6;
     if (vb <= 0 && d2 >= 0 && d6 <= 0) {
         const double w = d2 / (d2 - d6);
-        return (p - (a + w * ac)).norm();
+        return a + w * ac;
     }
     const double va = d3 * d6 - d5 * d4;
     if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
         const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        return (p - (b + w * (c - b))).norm();
+        return b + w * (c - b);
     }
     const double denom = 1.0 / (va + vb + vc);
     if (!std::isfinite(denom)) {  // degenerate triangle: its edges
-        double best = std::min({(p - a).norm(), (p - b).norm(), (p - c).norm()});
+        Eigen::Vector3d best = a;
+        for (const Eigen::Vector3d& q : {b, c}) {
+            if ((p - q).squaredNorm() < (p - best).squaredNorm()) best = q;
+        }
         for (const auto& [u, w] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}}) {
             const Eigen::Vector3d e = w - u;
             const double l2 = e.squaredNorm();
-            if (l2 > 0) best = std::min(best, (p - (u + std::clamp((p - u).dot(e) / l2, 0.0, 1.0) * e)).norm());
+            if (l2 <= 0) continue;
+            const Eigen::Vector3d q = u + std::clamp((p - u).dot(e) / l2, 0.0, 1.0) * e;
+            if ((p - q).squaredNorm() < (p - best).squaredNorm()) best = q;
         }
         return best;
     }
     const double v = vb * denom, w = vc * denom;
-    return (p - (a + ab * v + ac * w)).norm();
+    return a + ab * v + ac * w;
+}
+
+double pointTriangleDistance(const Eigen::Vector3d& p, const Triangle& t) {
+    return (p - closestPointOnTriangle(p, t)).norm();
+}
+
+Eigen::Vector3d barycentric(const Eigen::Vector3d& q, const Triangle& t) {
+    const Eigen::Vector3d e0 = t[1] - t[0], e1 = t[2] - t[0], r = q - t[0];
+    const double d00 = e0.dot(e0), d01 = e0.dot(e1), d11 = e1.dot(e1);
+    const double d20 = r.dot(e0), d21 = r.dot(e1);
+    const double den = d00 * d11 - d01 * d01;
+    if (!(std::abs(den) > 1e-30 * std::max(1.0, d00 * d11))) {
+        int best = 0;
+        for (int k = 1; k < 3; ++k) {
+            if ((q - t[static_cast<std::size_t>(k)]).squaredNorm() < (q - t[static_cast<std::size_t>(best)]).squaredNorm()) best = k;
+        }
+        Eigen::Vector3d w = Eigen::Vector3d::Zero();
+        w[best] = 1.0;
+        return w;
+    }
+    const double v = (d11 * d20 - d01 * d21) / den, w = (d00 * d21 - d01 * d20) / den;
+    return {1.0 - v - w, v, w};
 }
 
 TriangleGrid::TriangleGrid(std::vector<Triangle> triangles) : triangles_(std::move(triangles)) {
@@ -136,6 +163,48 @@ double TriangleGrid::distance(const Eigen::Vector3d& p) const {
                     }
                 }
             }
+        }
+    }
+    return best;
+}
+
+void TriangleGrid::candidates(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                              std::vector<std::uint32_t>& out) const {
+    out.clear();
+    if (triangles_.empty()) return;
+    const Eigen::Vector3i a =
+        ((lo - origin_) / cell_).array().floor().cast<int>().max(0).min(dims_.array() - 1).matrix();
+    const Eigen::Vector3i b =
+        ((hi - origin_) / cell_).array().floor().cast<int>().max(0).min(dims_.array() - 1).matrix();
+    for (int z = a.z(); z <= b.z(); ++z)
+        for (int y = a.y(); y <= b.y(); ++y)
+            for (int x = a.x(); x <= b.x(); ++x) {
+                const auto k = static_cast<std::size_t>(key(x, y, z));
+                for (std::uint32_t i = start_[k]; i < start_[k + 1]; ++i) {
+                    const std::uint32_t t = items_[i];
+                    if ((lo_[t].array() <= hi.array()).all() && (hi_[t].array() >= lo.array()).all()) {
+                        out.push_back(t);
+                    }
+                }
+            }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+}
+
+int TriangleGrid::nearestOf(const Eigen::Vector3d& p, const std::vector<std::uint32_t>& ids,
+                            Eigen::Vector3d& nearest) const {
+    int best = -1;
+    double best2 = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+        const std::uint32_t t = ids[i];
+        const double box = (lo_[t] - p).cwiseMax(p - hi_[t]).cwiseMax(0.0).squaredNorm();
+        if (box >= best2) continue;
+        const Eigen::Vector3d q = closestPointOnTriangle(p, triangles_[t]);
+        const double d2 = (p - q).squaredNorm();
+        if (d2 < best2) {
+            best2 = d2;
+            best = static_cast<int>(i);
+            nearest = q;
         }
     }
     return best;

@@ -19,6 +19,15 @@ public:
     /// there are no triangles.
     double distance(const Eigen::Vector3d& p) const;
     std::size_t size() const { return triangles_.size(); }
+    const Triangle& triangle(std::size_t i) const { return triangles_[i]; }
+    /// The triangles whose boxes meet the box [lo, hi], each once, ascending (appended to
+    /// `out` after clearing it). Thread-safe.
+    void candidates(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                    std::vector<std::uint32_t>& out) const;
+    /// Of the triangles `ids`, the one nearest to `p` (the first on ties) and the nearest
+    /// point on it; returns its index into `ids`, or -1 when `ids` is empty.
+    int nearestOf(const Eigen::Vector3d& p, const std::vector<std::uint32_t>& ids,
+                  Eigen::Vector3d& nearest) const;
 
 private:
     std::int64_t key(int x, int y, int z) const;
@@ -32,6 +41,11 @@ private:
 
 /// Distance from `p` to triangle `t` (Ericson, Real-Time Collision Detection 5.1.5).
 double pointTriangleDistance(const Eigen::Vector3d& p, const Triangle& t);
+/// The point of triangle `t` nearest to `p` (the same construction).
+Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Triangle& t);
+/// Barycentric coordinates of `q` (a point of the triangle's plane) in `t`; a degenerate
+/// triangle gives the weights of its nearest corner.
+Eigen::Vector3d barycentric(const Eigen::Vector3d& q, const Triangle& t);
 
 /// An upper bound on the one-sided Hausdorff distance max_{a in A} min_{b in B} |a - b| from
 /// the surface of `a` to the surface of `b`, within `tolerance_m` of the true value:
