@@ -143,8 +143,10 @@ void bakeAtlas(TileMesh& target, const std::vector<const TileMesh*>& sources, do
     if (textured) {
         for (int attempt = 0;; ++attempt) {
             for (Flat& fl : flats) {
-                fl.w = std::max(1, static_cast<int>(std::ceil(fl.length / texel_m))) + 2 * g;
-                fl.h = std::max(1, static_cast<int>(std::ceil(fl.cy / texel_m))) + 2 * g;
+                // Even sizes (so even places): JPEG's 2 x 2 chroma blocks never straddle two
+                // faces' rectangles.
+                fl.w = (std::max(1, static_cast<int>(std::ceil(fl.length / texel_m))) + 2 * g + 1) & ~1;
+                fl.h = (std::max(1, static_cast<int>(std::ceil(fl.cy / texel_m))) + 2 * g + 1) & ~1;
             }
             size = pack(flats);
             const int side = std::max(size.width, size.height);

@@ -21,7 +21,8 @@ double texelSizeM(const TileMesh& mesh);
 /// Gives `target` (its corners set, nothing else needed) a fresh atlas baked from `sources`,
 /// and each face a class and confidence from them:
 /// - every face gets its own rectangle on one page: the face laid flat (its longest edge
-///   along x), `texel_m` metres per texel, `gutter_px` texels of margin on each side;
+///   along x), `texel_m` metres per texel, `gutter_px` texels of margin on each side, sizes
+///   rounded up to even (JPEG's 2 x 2 chroma blocks never straddle two rectangles);
 ///   `texel_m` grows until the packed page fits `max_page_px` on a side;
 /// - every texel of a rectangle (margin included: its point is clamped to the face, so the
 ///   margin repeats the face's border colours and bilinear sampling does not bleed) is the
@@ -34,6 +35,6 @@ double texelSizeM(const TileMesh& mesh);
 /// Without any textured source face the target gets no atlas (every face kNoPage).
 /// Deterministic (parallel over faces, each writing its own rectangle).
 void bakeAtlas(TileMesh& target, const std::vector<const TileMesh*>& sources, double texel_m,
-               int max_page_px, int gutter_px = 1, BakeFigures* figures = nullptr);
+               int max_page_px, int gutter_px = 2, BakeFigures* figures = nullptr);
 
 }  // namespace vdbmap::tiles3d

@@ -11,7 +11,7 @@ struct ParentOptions {
     int level = 1;               ///< 1 = parent of the leaves
     double voxel_size_m = 0.1;   ///< the map's voxel size
     int max_atlas_px = 8192;     ///< the parent's atlas page side at most
-    int gutter_px = 1;           ///< texels of margin around each face on the parent's page
+    int gutter_px = 2;           ///< texels of margin around each face on the parent's page
 };
 
 /// What buildParent did.
