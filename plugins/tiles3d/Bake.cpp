@@ -179,10 +179,12 @@ void bakeAtlas(TileMesh& target, const std::vector<const TileMesh*>& sources, do
             const Triangle flat{Eigen::Vector3d::Zero(), Eigen::Vector3d(fl.length, 0, 0),
                                 Eigen::Vector3d(fl.cx, fl.cy, 0)};
             // Nearest source point of a W point: its colour, class and confidence.
+            int hint = -1;
             auto sample = [&](const Eigen::Vector3d& p, cv::Vec3b* colour, std::uint8_t* label, float* conf) {
                 Eigen::Vector3d q;
-                const int i = grid.nearestOf(p, ids, q);
+                const int i = grid.nearestOf(p, ids, q, hint);
                 if (i < 0) return false;
+                hint = i;
                 const auto [s, sf] = origin[ids[static_cast<std::size_t>(i)]];
                 const TileMesh& m = *sources[s];
                 if (label) *label = m.label[sf];

@@ -66,8 +66,10 @@ TileMesh buildParent(const std::vector<const TileMesh*>& children, const ParentO
     index_of.clear();
     const std::size_t vertex_count = positions.size() / 3;
 
-    // A quarter of the faces, at most voxel_size_m * 2^level of error; the parent's outline
-    // (and the mesh's open borders) stay.
+    // A quarter of the faces, at most voxel_size_m * 2^level of error. No LockBorder: it would
+    // lock every open border of the mesh too (meshoptimizer 0.18 cannot lock a chosen subset),
+    // and the levels above 2 would barely simplify; border vertices still collapse only along
+    // the border, onto border vertices (docs/tiles3d.md, "Levels of detail").
     std::vector<std::uint32_t> simplified(indices.size());
     std::size_t count = 0;
     if (!indices.empty()) {
@@ -78,7 +80,7 @@ TileMesh buildParent(const std::vector<const TileMesh*>& children, const ParentO
         count = meshopt_simplify(simplified.data(), indices.data(), indices.size(), positions.data(),
                                  vertex_count, 12, target,
                                  static_cast<float>(max_error_m / std::max(1e-9f, mesh_scale)),
-                                 meshopt_SimplifyLockBorder, &error_rel);
+                                 0, &error_rel);
         if (figures) figures->simplify_error_m = error_rel * mesh_scale;
     }
     const std::size_t n = count / 3;

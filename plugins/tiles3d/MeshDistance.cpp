@@ -192,20 +192,25 @@ void TriangleGrid::candidates(const Eigen::Vector3d& lo, const Eigen::Vector3d& 
 }
 
 int TriangleGrid::nearestOf(const Eigen::Vector3d& p, const std::vector<std::uint32_t>& ids,
-                            Eigen::Vector3d& nearest) const {
+                            Eigen::Vector3d& nearest, int hint) const {
     int best = -1;
     double best2 = std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < ids.size(); ++i) {
+    auto consider = [&](std::size_t i) {
         const std::uint32_t t = ids[i];
         const double box = (lo_[t] - p).cwiseMax(p - hi_[t]).cwiseMax(0.0).squaredNorm();
-        if (box >= best2) continue;
+        if (box > best2) return;
         const Eigen::Vector3d q = closestPointOnTriangle(p, triangles_[t]);
         const double d2 = (p - q).squaredNorm();
-        if (d2 < best2) {
+        // Ties go to the smaller index, whatever the hint: the answer does not depend on it.
+        if (d2 < best2 || (d2 == best2 && static_cast<int>(i) < best)) {
             best2 = d2;
             best = static_cast<int>(i);
             nearest = q;
         }
+    };
+    if (hint >= 0 && static_cast<std::size_t>(hint) < ids.size()) consider(static_cast<std::size_t>(hint));
+    for (std::size_t i = 0; i < ids.size(); ++i) {
+        if (static_cast<int>(i) != hint) consider(i);
     }
     return best;
 }

@@ -24,10 +24,12 @@ public:
     /// `out` after clearing it). Thread-safe.
     void candidates(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
                     std::vector<std::uint32_t>& out) const;
-    /// Of the triangles `ids`, the one nearest to `p` (the first on ties) and the nearest
-    /// point on it; returns its index into `ids`, or -1 when `ids` is empty.
+    /// Of the triangles `ids`, the one nearest to `p` and the nearest point on it; returns its
+    /// index into `ids`, or -1 when `ids` is empty. `hint` (an index into `ids`, or -1) is
+    /// tried first: a good guess (the previous query's answer nearby) lets the triangles'
+    /// boxes reject the others.
     int nearestOf(const Eigen::Vector3d& p, const std::vector<std::uint32_t>& ids,
-                  Eigen::Vector3d& nearest) const;
+                  Eigen::Vector3d& nearest, int hint = -1) const;
 
 private:
     std::int64_t key(int x, int y, int z) const;
