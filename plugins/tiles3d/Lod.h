@@ -24,12 +24,12 @@ struct ParentFigures {
 };
 
 /// A parent of the quadtree: the children's faces merged, welded by position only (texture
-/// seams and class borders are no borders), simplified with meshopt_simplify (LockBorder: the
-/// parent's outline stays, so neighbouring parents and leaves meet without cracks) to a
-/// quarter of the faces, at most voxel_size_m * 2^level of error; then a fresh atlas at twice
-/// the children's texel size, baked from the children's surface and pages, and each face's
-/// class and confidence from the children's faces nearest to it (bakeAtlas). Every corner of
-/// the result is a corner of a child.
+/// seams and class borders are no borders), simplified with meshopt_simplify to a quarter of
+/// the faces, at most voxel_size_m * 2^level of error (no LockBorder: border vertices still
+/// collapse only along the border); then a fresh atlas at twice the children's texel size,
+/// baked from the children's surface and pages, and each face's class and confidence from the
+/// children's faces nearest to it (bakeAtlas). Every corner of the result is a corner of a
+/// child.
 TileMesh buildParent(const std::vector<const TileMesh*>& children, const ParentOptions& options,
                      ParentFigures* figures = nullptr);
 
