@@ -159,33 +159,25 @@ void bakeAtlas(TileMesh& target, const std::vector<const TileMesh*>& sources, do
     cv::Mat* page = textured ? &target.pages.front() : nullptr;
 
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 32), [&](const auto& range) {
-        std::vector<std::uint32_t> ids;
         std::vector<std::pair<std::uint8_t, float>> votes;
         for (std::size_t f = range.begin(); f != range.end(); ++f) {
             const Flat& fl = flats[f];
             const Triangle t{target.cornerW(f, 0), target.cornerW(f, 1), target.cornerW(f, 2)};
-            // Every point of the face is within `reach` of the sources (1-Lipschitz distance).
-            const double radius =
-                std::max({(t[1] - t[0]).norm(), (t[2] - t[1]).norm(), (t[0] - t[2]).norm()}) / std::sqrt(3.0);
-            const double reach = std::max({grid.distance(t[0]), grid.distance(t[1]), grid.distance(t[2])}) +
-                                 radius + 1e-6;
-            const Eigen::Vector3d lo = t[0].cwiseMin(t[1]).cwiseMin(t[2]).array() - reach;
-            const Eigen::Vector3d hi = t[0].cwiseMax(t[1]).cwiseMax(t[2]).array() + reach;
-            grid.candidates(lo, hi, ids);
             // The face's corners in the flat frame's order: a, b, c.
             const Eigen::Vector3d& a = t[static_cast<std::size_t>(fl.first)];
             const Eigen::Vector3d& b = t[static_cast<std::size_t>((fl.first + 1) % 3)];
             const Eigen::Vector3d& c = t[static_cast<std::size_t>((fl.first + 2) % 3)];
             const Triangle flat{Eigen::Vector3d::Zero(), Eigen::Vector3d(fl.length, 0, 0),
                                 Eigen::Vector3d(fl.cx, fl.cy, 0)};
-            // Nearest source point of a W point: its colour, class and confidence.
+            // Nearest source point of a W point (a local search in the grid's cells, the
+            // previous texel's triangle tried first): its colour, class and confidence.
             int hint = -1;
             auto sample = [&](const Eigen::Vector3d& p, cv::Vec3b* colour, std::uint8_t* label, float* conf) {
                 Eigen::Vector3d q;
-                const int i = grid.nearestOf(p, ids, q, hint);
+                const int i = grid.nearest(p, q, hint);
                 if (i < 0) return false;
                 hint = i;
-                const auto [s, sf] = origin[ids[static_cast<std::size_t>(i)]];
+                const auto [s, sf] = origin[static_cast<std::size_t>(i)];
                 const TileMesh& m = *sources[s];
                 if (label) *label = m.label[sf];
                 if (conf) *conf = m.confidence[sf];
@@ -193,7 +185,7 @@ void bakeAtlas(TileMesh& target, const std::vector<const TileMesh*>& sources, do
                     if (m.page[sf] == kNoPage || m.uvs.empty()) {
                         *colour = kUntexturedBgr;
                     } else {
-                        const Eigen::Vector3d w = barycentric(q, grid.triangle(ids[static_cast<std::size_t>(i)]));
+                        const Eigen::Vector3d w = barycentric(q, grid.triangle(static_cast<std::size_t>(i)));
                         Eigen::Vector2d uv = Eigen::Vector2d::Zero();
                         for (int k = 0; k < 3; ++k) uv += w[k] * m.uvs[sf][static_cast<std::size_t>(k)].cast<double>();
                         *colour = bilinear(m.pages[m.page[sf]], uv);

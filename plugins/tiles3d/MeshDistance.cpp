@@ -136,16 +136,24 @@ std::int64_t TriangleGrid::key(int x, int y, int z) const {
     return (static_cast<std::int64_t>(z) * dims_.y() + y) * dims_.x() + x;
 }
 
+double TriangleGrid::cellExit(const Eigen::Vector3d& q, const Eigen::Vector3i& c) const {
+    // q in cell units; 0 when q lies outside cell c (a point beyond the grid's edge).
+    const Eigen::Vector3d f = q - c.cast<double>();
+    if ((f.array() < 0.0).any() || (f.array() > 1.0).any()) return 0.0;
+    return f.cwiseMin(Eigen::Vector3d::Ones() - f).minCoeff() * cell_;
+}
+
 double TriangleGrid::distance(const Eigen::Vector3d& p) const {
     double best = std::numeric_limits<double>::infinity();
     if (triangles_.empty()) return best;
     const Eigen::Vector3d q = (p - origin_) / cell_;
     const Eigen::Vector3i c = q.array().floor().cast<int>().max(0).min(dims_.array() - 1).matrix();
+    const double exit_m = cellExit(q, c);
     const int max_ring = dims_.maxCoeff();
     for (int r = 0; r <= max_ring; ++r) {
-        // Every point of a cell in ring r is at least (r - 1) cells from p (p in cell c, or
-        // outside the grid beyond it): stop once that exceeds the best distance.
-        if (r >= 1 && (r - 1) * cell_ > best) break;
+        // Every point of a cell in ring r is at least (r - 1) cells plus the way out of cell c
+        // from p: stop once that exceeds the best distance.
+        if (r >= 1 && (r - 1) * cell_ + exit_m > best) break;
         for (int z = c.z() - r; z <= c.z() + r; ++z) {
             if (z < 0 || z >= dims_.z()) continue;
             for (int y = c.y() - r; y <= c.y() + r; ++y) {
@@ -168,49 +176,42 @@ double TriangleGrid::distance(const Eigen::Vector3d& p) const {
     return best;
 }
 
-void TriangleGrid::candidates(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
-                              std::vector<std::uint32_t>& out) const {
-    out.clear();
-    if (triangles_.empty()) return;
-    const Eigen::Vector3i a =
-        ((lo - origin_) / cell_).array().floor().cast<int>().max(0).min(dims_.array() - 1).matrix();
-    const Eigen::Vector3i b =
-        ((hi - origin_) / cell_).array().floor().cast<int>().max(0).min(dims_.array() - 1).matrix();
-    for (int z = a.z(); z <= b.z(); ++z)
-        for (int y = a.y(); y <= b.y(); ++y)
-            for (int x = a.x(); x <= b.x(); ++x) {
-                const auto k = static_cast<std::size_t>(key(x, y, z));
-                for (std::uint32_t i = start_[k]; i < start_[k + 1]; ++i) {
-                    const std::uint32_t t = items_[i];
-                    if ((lo_[t].array() <= hi.array()).all() && (hi_[t].array() >= lo.array()).all()) {
-                        out.push_back(t);
-                    }
-                }
-            }
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
-}
-
-int TriangleGrid::nearestOf(const Eigen::Vector3d& p, const std::vector<std::uint32_t>& ids,
-                            Eigen::Vector3d& nearest, int hint) const {
+int TriangleGrid::nearest(const Eigen::Vector3d& p, Eigen::Vector3d& nearest, int hint) const {
+    if (triangles_.empty()) return -1;
     int best = -1;
     double best2 = std::numeric_limits<double>::infinity();
-    auto consider = [&](std::size_t i) {
-        const std::uint32_t t = ids[i];
+    auto consider = [&](std::uint32_t t) {
         const double box = (lo_[t] - p).cwiseMax(p - hi_[t]).cwiseMax(0.0).squaredNorm();
         if (box > best2) return;
         const Eigen::Vector3d q = closestPointOnTriangle(p, triangles_[t]);
         const double d2 = (p - q).squaredNorm();
-        // Ties go to the smaller index, whatever the hint: the answer does not depend on it.
-        if (d2 < best2 || (d2 == best2 && static_cast<int>(i) < best)) {
+        if (d2 < best2 || (d2 == best2 && static_cast<int>(t) < best)) {
             best2 = d2;
-            best = static_cast<int>(i);
+            best = static_cast<int>(t);
             nearest = q;
         }
     };
-    if (hint >= 0 && static_cast<std::size_t>(hint) < ids.size()) consider(static_cast<std::size_t>(hint));
-    for (std::size_t i = 0; i < ids.size(); ++i) {
-        if (static_cast<int>(i) != hint) consider(i);
+    if (hint >= 0 && static_cast<std::size_t>(hint) < triangles_.size()) consider(static_cast<std::uint32_t>(hint));
+    const Eigen::Vector3d g = (p - origin_) / cell_;
+    const Eigen::Vector3i c = g.array().floor().cast<int>().max(0).min(dims_.array() - 1).matrix();
+    const double exit_m = cellExit(g, c);
+    const int max_ring = dims_.maxCoeff();
+    for (int r = 0; r <= max_ring; ++r) {
+        // Every point of a cell in ring r is at least (r - 1) cells plus the way out of cell c
+        // from p: stop once that exceeds the best distance (a tie there cannot be nearer).
+        if (r >= 1 && (r - 1) * cell_ + exit_m > std::sqrt(best2)) break;
+        for (int z = c.z() - r; z <= c.z() + r; ++z) {
+            if (z < 0 || z >= dims_.z()) continue;
+            for (int y = c.y() - r; y <= c.y() + r; ++y) {
+                if (y < 0 || y >= dims_.y()) continue;
+                for (int x = c.x() - r; x <= c.x() + r; ++x) {
+                    if (x < 0 || x >= dims_.x()) continue;
+                    if (std::max({std::abs(x - c.x()), std::abs(y - c.y()), std::abs(z - c.z())}) != r) continue;
+                    const auto k = static_cast<std::size_t>(key(x, y, z));
+                    for (std::uint32_t i = start_[k]; i < start_[k + 1]; ++i) consider(items_[i]);
+                }
+            }
+        }
     }
     return best;
 }

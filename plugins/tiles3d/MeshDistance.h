@@ -20,19 +20,16 @@ public:
     double distance(const Eigen::Vector3d& p) const;
     std::size_t size() const { return triangles_.size(); }
     const Triangle& triangle(std::size_t i) const { return triangles_[i]; }
-    /// The triangles whose boxes meet the box [lo, hi], each once, ascending (appended to
-    /// `out` after clearing it). Thread-safe.
-    void candidates(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
-                    std::vector<std::uint32_t>& out) const;
-    /// Of the triangles `ids`, the one nearest to `p` and the nearest point on it; returns its
-    /// index into `ids`, or -1 when `ids` is empty. `hint` (an index into `ids`, or -1) is
-    /// tried first: a good guess (the previous query's answer nearby) lets the triangles'
-    /// boxes reject the others.
-    int nearestOf(const Eigen::Vector3d& p, const std::vector<std::uint32_t>& ids,
-                  Eigen::Vector3d& nearest, int hint = -1) const;
+    /// The triangle nearest to `p` (ties: the smaller index) and the nearest point on it, by a
+    /// search in rings of grid cells around p; -1 when there are no triangles. `hint` (a
+    /// triangle index, or -1) is tried first to bound the search; the answer does not depend
+    /// on it. Thread-safe.
+    int nearest(const Eigen::Vector3d& p, Eigen::Vector3d& nearest, int hint = -1) const;
 
 private:
     std::int64_t key(int x, int y, int z) const;
+    /// The distance (metres) from a point, `q` in cell units, to the outside of its cell `c`.
+    double cellExit(const Eigen::Vector3d& q, const Eigen::Vector3i& c) const;
     std::vector<Triangle> triangles_;
     std::vector<Eigen::Vector3d> lo_, hi_;  ///< each triangle's box
     Eigen::Vector3d origin_;

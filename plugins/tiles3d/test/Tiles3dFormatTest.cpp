@@ -340,3 +340,36 @@ TEST_CASE("Point-triangle distance: closed forms", "[tiles3d]") {
     CHECK(pointTriangleDistance({1, 1, 0}, t) == Approx(std::sqrt(0.5)));
     CHECK(pointTriangleDistance({0.5, -2, 0}, t) == Approx(2));
 }
+
+TEST_CASE("The grid's nearest triangle is the brute-force one, whatever the hint", "[tiles3d]") {
+    // A bumpy sheet of 2,000 small triangles and 1,000 query points around it: the ring search
+    // must give the brute-force oracle's triangle (ties: the smaller index) and point.
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(0.0, 20.0), h(-0.3, 0.3), d(-0.4, 0.4);
+    std::vector<vdbmap::tiles3d::Triangle> tris;
+    for (int i = 0; i < 2000; ++i) {
+        const Eigen::Vector3d a(u(rng), u(rng), h(rng));
+        tris.push_back({a, a + Eigen::Vector3d(d(rng), d(rng), h(rng)), a + Eigen::Vector3d(d(rng), d(rng), h(rng))});
+    }
+    const vdbmap::tiles3d::TriangleGrid grid(tris);
+    std::uniform_real_distribution<double> z(-3.0, 3.0), far(-10.0, 30.0);
+    for (int k = 0; k < 1000; ++k) {
+        const Eigen::Vector3d p = k % 10 == 0 ? Eigen::Vector3d(far(rng), far(rng), far(rng))
+                                              : Eigen::Vector3d(u(rng), u(rng), z(rng));
+        int brute = -1;
+        double best = std::numeric_limits<double>::infinity();
+        for (std::size_t t = 0; t < tris.size(); ++t) {
+            const double dist = vdbmap::tiles3d::pointTriangleDistance(p, tris[t]);
+            if (dist < best) {
+                best = dist;
+                brute = static_cast<int>(t);
+            }
+        }
+        for (const int hint : {-1, 0, static_cast<int>(k % 2000)}) {
+            Eigen::Vector3d q;
+            const int found = grid.nearest(p, q, hint);
+            CHECK(found == brute);
+            CHECK((p - q).norm() == Approx(best).margin(1e-12));
+        }
+    }
+}
