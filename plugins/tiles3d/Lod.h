@@ -11,22 +11,25 @@ struct ParentOptions {
     int level = 1;               ///< 1 = parent of the leaves
     double voxel_size_m = 0.1;   ///< the map's voxel size
     int max_atlas_px = 8192;     ///< the parent's atlas page side at most
+    int gutter_px = 2;           ///< texels of margin around each face on the parent's page
 };
 
 /// What buildParent did.
 struct ParentFigures {
     std::size_t merged_faces = 0, faces = 0;
     double simplify_error_m = 0;  ///< meshoptimizer's own error estimate (absolute)
-    double texture_scale = 0;     ///< parent texels per child texel along an axis (0.5 or less)
+    double child_texel_m = 0;     ///< the children's texel size (metres per texel)
+    double texel_m = 0;           ///< the parent's (2 x the children's, more if the page was full)
+    std::size_t texels = 0;       ///< texels baked
 };
 
-/// A parent of the quadtree: the children's faces merged, welded (same position, texture
-/// coordinate and page: texture borders stay seams; a face takes the class and confidence of
-/// its first corner's first face) and simplified with
-/// meshopt_simplify (LockBorder: the outline stays, so neighbouring parents meet without
-/// cracks) to a quarter of the faces, at most voxel_size_m * 2^level of error; the children's
-/// atlas pages halved (INTER_AREA) and packed into one page (smaller again if it would
-/// exceed max_atlas_px). Every corner of the result is a corner of a child.
+/// A parent of the quadtree: the children's faces merged, welded by position only (texture
+/// seams and class borders are no borders), simplified with meshopt_simplify to a quarter of
+/// the faces, at most voxel_size_m * 2^level of error (no LockBorder: border vertices still
+/// collapse only along the border); then a fresh atlas at twice the children's texel size,
+/// baked from the children's surface and pages, and each face's class and confidence from the
+/// children's faces nearest to it (bakeAtlas). Every corner of the result is a corner of a
+/// child.
 TileMesh buildParent(const std::vector<const TileMesh*>& children, const ParentOptions& options,
                      ParentFigures* figures = nullptr);
 

@@ -10,46 +10,73 @@
 
 namespace vdbmap::tiles3d {
 
-double pointTriangleDistance(const Eigen::Vector3d& p, const Triangle& t) {
+Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Triangle& t) {
     const Eigen::Vector3d& a = t[0];
     const Eigen::Vector3d& b = t[1];
     const Eigen::Vector3d& c = t[2];
     const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
     const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-    if (d1 <= 0 && d2 <= 0) return (p - a).norm();
+    if (d1 <= 0 && d2 <= 0) return a;
     const Eigen::Vector3d bp = p - b;
     const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-    if (d3 >= 0 && d4 <= d3) return (p - b).norm();
+    if (d3 >= 0 && d4 <= d3) return b;
     const double vc = d1 * d4 - d3 * d2;
     if (vc <= 0 && d1 >= 0 && d3 <= 0) {
         const double v = d1 / (d1 - d3);
-        return (p - (a + v * ab)).norm();
+        return a + v * ab;
     }
     const Eigen::Vector3d cp = p - c;
     const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-    if (d6 >= 0 && d5 <= d6) return (p - c).norm();
+    if (d6 >= 0 && d5 <= d6) return c;
     const double vb = d5 * d2 - d1 * d6;
     if (vb <= 0 && d2 >= 0 && d6 <= 0) {
         const double w = d2 / (d2 - d6);
-        return (p - (a + w * ac)).norm();
+        return a + w * ac;
     }
     const double va = d3 * d6 - d5 * d4;
     if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
         const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        return (p - (b + w * (c - b))).norm();
+        return b + w * (c - b);
     }
     const double denom = 1.0 / (va + vb + vc);
     if (!std::isfinite(denom)) {  // degenerate triangle: its edges
-        double best = std::min({(p - a).norm(), (p - b).norm(), (p - c).norm()});
+        Eigen::Vector3d best = a;
+        for (const Eigen::Vector3d& q : {b, c}) {
+            if ((p - q).squaredNorm() < (p - best).squaredNorm()) best = q;
+        }
         for (const auto& [u, w] : {std::pair{a, b}, std::pair{b, c}, std::pair{c, a}}) {
             const Eigen::Vector3d e = w - u;
             const double l2 = e.squaredNorm();
-            if (l2 > 0) best = std::min(best, (p - (u + std::clamp((p - u).dot(e) / l2, 0.0, 1.0) * e)).norm());
+            if (l2 <= 0) continue;
+            const Eigen::Vector3d q = u + std::clamp((p - u).dot(e) / l2, 0.0, 1.0) * e;
+            if ((p - q).squaredNorm() < (p - best).squaredNorm()) best = q;
         }
         return best;
     }
     const double v = vb * denom, w = vc * denom;
-    return (p - (a + ab * v + ac * w)).norm();
+    return a + ab * v + ac * w;
+}
+
+double pointTriangleDistance(const Eigen::Vector3d& p, const Triangle& t) {
+    return (p - closestPointOnTriangle(p, t)).norm();
+}
+
+Eigen::Vector3d barycentric(const Eigen::Vector3d& q, const Triangle& t) {
+    const Eigen::Vector3d e0 = t[1] - t[0], e1 = t[2] - t[0], r = q - t[0];
+    const double d00 = e0.dot(e0), d01 = e0.dot(e1), d11 = e1.dot(e1);
+    const double d20 = r.dot(e0), d21 = r.dot(e1);
+    const double den = d00 * d11 - d01 * d01;
+    if (!(std::abs(den) > 1e-30 * std::max(1.0, d00 * d11))) {
+        int best = 0;
+        for (int k = 1; k < 3; ++k) {
+            if ((q - t[static_cast<std::size_t>(k)]).squaredNorm() < (q - t[static_cast<std::size_t>(best)]).squaredNorm()) best = k;
+        }
+        Eigen::Vector3d w = Eigen::Vector3d::Zero();
+        w[best] = 1.0;
+        return w;
+    }
+    const double v = (d11 * d20 - d01 * d21) / den, w = (d00 * d21 - d01 * d20) / den;
+    return {1.0 - v - w, v, w};
 }
 
 TriangleGrid::TriangleGrid(std::vector<Triangle> triangles) : triangles_(std::move(triangles)) {
@@ -109,16 +136,24 @@ std::int64_t TriangleGrid::key(int x, int y, int z) const {
     return (static_cast<std::int64_t>(z) * dims_.y() + y) * dims_.x() + x;
 }
 
+double TriangleGrid::cellExit(const Eigen::Vector3d& q, const Eigen::Vector3i& c) const {
+    // q in cell units; 0 when q lies outside cell c (a point beyond the grid's edge).
+    const Eigen::Vector3d f = q - c.cast<double>();
+    if ((f.array() < 0.0).any() || (f.array() > 1.0).any()) return 0.0;
+    return f.cwiseMin(Eigen::Vector3d::Ones() - f).minCoeff() * cell_;
+}
+
 double TriangleGrid::distance(const Eigen::Vector3d& p) const {
     double best = std::numeric_limits<double>::infinity();
     if (triangles_.empty()) return best;
     const Eigen::Vector3d q = (p - origin_) / cell_;
     const Eigen::Vector3i c = q.array().floor().cast<int>().max(0).min(dims_.array() - 1).matrix();
+    const double exit_m = cellExit(q, c);
     const int max_ring = dims_.maxCoeff();
     for (int r = 0; r <= max_ring; ++r) {
-        // Every point of a cell in ring r is at least (r - 1) cells from p (p in cell c, or
-        // outside the grid beyond it): stop once that exceeds the best distance.
-        if (r >= 1 && (r - 1) * cell_ > best) break;
+        // Every point of a cell in ring r is at least (r - 1) cells plus the way out of cell c
+        // from p: stop once that exceeds the best distance.
+        if (r >= 1 && (r - 1) * cell_ + exit_m > best) break;
         for (int z = c.z() - r; z <= c.z() + r; ++z) {
             if (z < 0 || z >= dims_.z()) continue;
             for (int y = c.y() - r; y <= c.y() + r; ++y) {
@@ -134,6 +169,46 @@ double TriangleGrid::distance(const Eigen::Vector3d& p) const {
                         if (box >= best * best) continue;
                         best = std::min(best, pointTriangleDistance(p, triangles_[t]));
                     }
+                }
+            }
+        }
+    }
+    return best;
+}
+
+int TriangleGrid::nearest(const Eigen::Vector3d& p, Eigen::Vector3d& nearest, int hint) const {
+    if (triangles_.empty()) return -1;
+    int best = -1;
+    double best2 = std::numeric_limits<double>::infinity();
+    auto consider = [&](std::uint32_t t) {
+        const double box = (lo_[t] - p).cwiseMax(p - hi_[t]).cwiseMax(0.0).squaredNorm();
+        if (box > best2) return;
+        const Eigen::Vector3d q = closestPointOnTriangle(p, triangles_[t]);
+        const double d2 = (p - q).squaredNorm();
+        if (d2 < best2 || (d2 == best2 && static_cast<int>(t) < best)) {
+            best2 = d2;
+            best = static_cast<int>(t);
+            nearest = q;
+        }
+    };
+    if (hint >= 0 && static_cast<std::size_t>(hint) < triangles_.size()) consider(static_cast<std::uint32_t>(hint));
+    const Eigen::Vector3d g = (p - origin_) / cell_;
+    const Eigen::Vector3i c = g.array().floor().cast<int>().max(0).min(dims_.array() - 1).matrix();
+    const double exit_m = cellExit(g, c);
+    const int max_ring = dims_.maxCoeff();
+    for (int r = 0; r <= max_ring; ++r) {
+        // Every point of a cell in ring r is at least (r - 1) cells plus the way out of cell c
+        // from p: stop once that exceeds the best distance (a tie there cannot be nearer).
+        if (r >= 1 && (r - 1) * cell_ + exit_m > std::sqrt(best2)) break;
+        for (int z = c.z() - r; z <= c.z() + r; ++z) {
+            if (z < 0 || z >= dims_.z()) continue;
+            for (int y = c.y() - r; y <= c.y() + r; ++y) {
+                if (y < 0 || y >= dims_.y()) continue;
+                for (int x = c.x() - r; x <= c.x() + r; ++x) {
+                    if (x < 0 || x >= dims_.x()) continue;
+                    if (std::max({std::abs(x - c.x()), std::abs(y - c.y()), std::abs(z - c.z())}) != r) continue;
+                    const auto k = static_cast<std::size_t>(key(x, y, z));
+                    for (std::uint32_t i = start_[k]; i < start_[k + 1]; ++i) consider(items_[i]);
                 }
             }
         }

@@ -198,6 +198,12 @@ std::vector<ClassInfo> Tiles3dStage::classes(const Context& ctx) const {
 
 void Tiles3dStage::run(Context& ctx) {
     const std::string stage(name());
+    if (ctx.hasTile()) {
+        saw_tile_ = true;
+    } else if (saw_tile_) {
+        logInfo(stage + ": tiling.merge's pass over the whole map: no GLB (the tileset's leaves are the tiles')");
+        return;
+    }
     Timer timer;
     TileMesh mesh = tileMeshFromContext(ctx);
     if (mesh.faces() == 0) fail("the mesh has no faces to export");
@@ -272,7 +278,15 @@ void Tiles3dStage::finishRun(Context& ctx, const std::vector<FinishedTile>& tile
     std::array<double, 256> area{};
     std::size_t leaf_faces = 0, leaf_bytes = 0;
     std::vector<FinishedTile> leaves = tiles;
-    if (leaves.empty()) leaves.push_back({"", 0, 0});
+    if (leaves.empty()) {
+        leaves.push_back({"", 0, 0});
+    } else {
+        // A tiled run's leaves are its tiles': no run-level leaf (tiling.merge's pass on
+        // --resume, or an earlier untiled run in this folder) stays beside them.
+        std::error_code ec;
+        fs::remove(dir / "tile.glb", ec);
+        fs::remove(dir / "tile.json", ec);
+    }
     int min_ix = leaves.front().ix, min_iy = leaves.front().iy;
     for (const FinishedTile& t : leaves) {
         min_ix = std::min(min_ix, t.ix);
@@ -327,7 +341,8 @@ void Tiles3dStage::finishRun(Context& ctx, const std::vector<FinishedTile>& tile
         std::vector<Node> next;
         const bool content = lod_levels_ < 0 || depth <= lod_levels_;
         std::size_t faces = 0;
-        double max_error = 0;
+        double max_error = 0, level_texel_m = 0;
+        std::size_t level_texels = 0;
         for (auto& [key, children] : groups) {
             Node p;
             p.ky = key.first;
@@ -358,7 +373,10 @@ void Tiles3dStage::finishRun(Context& ctx, const std::vector<FinishedTile>& tile
                 po.max_atlas_px = lod_atlas_max_px_;
                 read_s += step.elapsedSeconds();
                 step.reset();
-                TileMesh parent = buildParent(ptrs, po);
+                ParentFigures pf;
+                TileMesh parent = buildParent(ptrs, po, &pf);
+                level_texel_m = std::max(level_texel_m, pf.texel_m);
+                level_texels += pf.texels;
                 build_s += step.elapsedSeconds();
                 step.reset();
                 // The measured bound: distance from the parent to its children, plus theirs.
@@ -398,7 +416,8 @@ void Tiles3dStage::finishRun(Context& ctx, const std::vector<FinishedTile>& tile
             next.push_back(std::move(p));
         }
         levels.push_back({{"level", depth}, {"tiles", next.size()}, {"faces", faces},
-                          {"geometric_error_m", max_error}, {"content", content}});
+                          {"geometric_error_m", max_error}, {"content", content},
+                          {"texel_m", level_texel_m}, {"texels", level_texels}});
         level = std::move(next);
     }
 
@@ -446,7 +465,7 @@ void Tiles3dStage::finishRun(Context& ctx, const std::vector<FinishedTile>& tile
     report.stage(stage, "finish_run_s", timer.elapsedSeconds());
     report.stage(stage, "leaves", leaves.size());
     report.set({"stages", stage, "lod_timings_s", "read_children"}, read_s);
-    report.set({"stages", stage, "lod_timings_s", "merge_simplify_atlas"}, build_s);
+    report.set({"stages", stage, "lod_timings_s", "merge_simplify_bake"}, build_s);
     report.set({"stages", stage, "lod_timings_s", "measure_error"}, measure_s);
     report.set({"stages", stage, "lod_timings_s", "encode_write"}, write_s);
     report.stage(stage, "lod_distance_queries", distance_queries);

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 
+#include <atomic>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,9 @@ private:
     bool georef_ = false;
     double latitude_deg_ = 0, longitude_deg_ = 0, altitude_m_ = 0, heading_deg_ = 0;
     bool drive_path_ = true;
+    /// Set by the first tile's run: a later untiled run() is tiling.merge's pass over the whole
+    /// map, whose GLB nothing would use (the tileset's leaves are the tiles').
+    std::atomic<bool> saw_tile_{false};
 };
 
 }  // namespace vdbmap::tiles3d

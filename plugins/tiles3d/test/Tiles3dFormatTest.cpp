@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "Bake.h"
 #include "Glb.h"
 #include "Lod.h"
 #include "MeshDistance.h"
@@ -194,7 +195,8 @@ TEST_CASE("A parent's corners are its children's; its measured error bounds its 
     CHECK(p.faces() < fig.merged_faces / 2);
     CHECK(p.faces() > 0);
     REQUIRE(p.pages.size() == 1);
-    CHECK(p.pages[0].cols <= 70);  // two 64-px pages halved side by side
+    CHECK(fig.child_texel_m == Approx(4.0 / 64).epsilon(0.03));  // a 64-px page over 4 m (not flat)
+    CHECK(fig.texel_m >= 2 * fig.child_texel_m * 0.999);          // the resolution halves
     std::set<std::array<long long, 3>> child_corners;
     auto key = [](const Eigen::Vector3d& v) {
         return std::array<long long, 3>{std::llround(v.x() * 1e4), std::llround(v.y() * 1e4), std::llround(v.z() * 1e4)};
@@ -230,10 +232,144 @@ TEST_CASE("A parent's corners are its children's; its measured error bounds its 
     CHECK(bound > 0);
 }
 
+namespace {
+
+/// A closed form for the bake test: the colour (BGR) of the point (x, y) of an 8 m x 4 m
+/// plane: red = 255 x / 8, green = 255 y / 4, blue 100.
+cv::Vec3d gradient(double x, double y) { return {100.0, 255.0 * y / 4.0, 255.0 * x / 8.0}; }
+
+/// A flat 4 x 4 m square at z = 0 from x0, `step` grid, its 256 x 256 page the gradient
+/// (texel centres rounded), class 0 left of x = 4, 1 right of it.
+TileMesh flatSquare(double x0, double step) {
+    TileMesh m = terrain(x0, 0, 4, step, 1, 0.0);
+    cv::Mat page(256, 256, CV_8UC3);
+    for (int r = 0; r < 256; ++r)
+        for (int c = 0; c < 256; ++c) {
+            const cv::Vec3d g = gradient(x0 + 4.0 * (c + 0.5) / 256, 4.0 * (r + 0.5) / 256);
+            page.at<cv::Vec3b>(r, c) = cv::Vec3b(uchar(std::lround(g[0])), uchar(std::lround(g[1])), uchar(std::lround(g[2])));
+        }
+    m.pages[0] = page;
+    for (std::size_t f = 0; f < m.faces(); ++f) {
+        m.label[f] = x0 < 4 ? 0 : 1;
+        m.confidence[f] = x0 < 4 ? 0.25f : 0.75f;
+    }
+    return m;
+}
+
+/// The page sampled bilinearly at glTF texture coordinates (texel centres at (i + 0.5) / size).
+cv::Vec3d sampleBilinear(const cv::Mat& page, const Eigen::Vector2d& uv) {
+    const double x = std::clamp(uv.x() * page.cols - 0.5, 0.0, page.cols - 1.0);
+    const double y = std::clamp(uv.y() * page.rows - 0.5, 0.0, page.rows - 1.0);
+    const int x0 = int(x), y0 = int(y), x1 = std::min(x0 + 1, page.cols - 1), y1 = std::min(y0 + 1, page.rows - 1);
+    const double fx = x - x0, fy = y - y0;
+    cv::Vec3d out;
+    for (int ch = 0; ch < 3; ++ch) {
+        out[ch] = (1 - fy) * ((1 - fx) * page.at<cv::Vec3b>(y0, x0)[ch] + fx * page.at<cv::Vec3b>(y0, x1)[ch]) +
+                  fy * ((1 - fx) * page.at<cv::Vec3b>(y1, x0)[ch] + fx * page.at<cv::Vec3b>(y1, x1)[ch]);
+    }
+    return out;
+}
+
+}  // namespace
+
+TEST_CASE("A parent's texture is baked from its children's at half the resolution", "[tiles3d]") {
+    // Two flat squares side by side: the parent simplifies to about a quarter (the plane
+    // costs no error), and its fresh atlas, sampled anywhere on a face, gives the gradient's
+    // closed form at that point: bilinear sampling of a linear function is exact up to the
+    // rounding of the texels, and the face margins repeat the face's border colours.
+    const TileMesh a = flatSquare(0, 0.1), b = flatSquare(4, 0.1);
+    ParentOptions po;
+    po.level = 1;
+    po.voxel_size_m = 0.1;
+    ParentFigures fig;
+    const TileMesh p = buildParent({&a, &b}, po, &fig);
+    CHECK(p.faces() <= fig.merged_faces / 4 + 8);
+    CHECK(fig.child_texel_m == Approx(4.0 / 256).epsilon(0.01));
+    CHECK(fig.texel_m == Approx(2 * fig.child_texel_m).epsilon(0.01));
+    REQUIRE(p.pages.size() == 1);
+    GlbOptions jpeg;  // and through the GLB, as JPEG (quality 90)
+    const TileMesh back = readGlb(writeGlb(p, classTable(), jpeg), "parent.glb");
+    REQUIRE(back.faces() == p.faces());
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(0, 1);
+    double worst = 0, worst_jpeg = 0, sum_jpeg = 0;
+    int samples = 0;
+    for (std::size_t f = 0; f < p.faces(); ++f) {
+        REQUIRE(p.page[f] == 0);
+        for (int s = 0; s < 8; ++s) {
+            double r1 = u(rng), r2 = u(rng);
+            if (r1 + r2 > 1) { r1 = 1 - r1; r2 = 1 - r2; }
+            const double w[3] = {1 - r1 - r2, r1, r2};
+            Eigen::Vector3d q = Eigen::Vector3d::Zero();
+            Eigen::Vector2d uv = Eigen::Vector2d::Zero();
+            for (int k = 0; k < 3; ++k) {
+                q += w[k] * p.cornerW(f, k);
+                uv += w[k] * p.uvs[f][static_cast<std::size_t>(k)].cast<double>();
+            }
+            const cv::Vec3d want = gradient(q.x(), q.y());
+            worst = std::max(worst, cv::norm(sampleBilinear(p.pages[0], uv) - want, cv::NORM_INF));
+            const double e = cv::norm(sampleBilinear(back.pages[0], uv) - want, cv::NORM_INF);
+            worst_jpeg = std::max(worst_jpeg, e);
+            sum_jpeg += e;
+            ++samples;
+        }
+        // The class: that of the children's faces nearest to the face's texels (a face across
+        // the border at x = 4 takes either).
+        const double lo = std::min({p.cornerW(f, 0).x(), p.cornerW(f, 1).x(), p.cornerW(f, 2).x()});
+        const double hi = std::max({p.cornerW(f, 0).x(), p.cornerW(f, 1).x(), p.cornerW(f, 2).x()});
+        if (hi < 4) {
+            CHECK(int(p.label[f]) == 0);
+            CHECK(p.confidence[f] == 0.25f);
+        } else if (lo > 4) {
+            CHECK(int(p.label[f]) == 1);
+            CHECK(p.confidence[f] == 0.75f);
+        }
+    }
+    INFO("worst " << worst << ", JPEG worst " << worst_jpeg << ", mean " << sum_jpeg / samples);
+    // The page's rounding (0.5) twice, the margin's clamp (one texel of the gradient, about 2);
+    // JPEG (quality 90) adds its ringing where a face's rectangle meets an unrelated one.
+    CHECK(worst <= 3.5);
+    CHECK(sum_jpeg / samples <= 3.0);
+    CHECK(worst_jpeg <= 20.0);
+}
+
 TEST_CASE("Point-triangle distance: closed forms", "[tiles3d]") {
     const Triangle t{Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 1, 0)};
     CHECK(pointTriangleDistance({0.2, 0.2, 3}, t) == Approx(3));
     CHECK(pointTriangleDistance({-1, 0, 0}, t) == Approx(1));
     CHECK(pointTriangleDistance({1, 1, 0}, t) == Approx(std::sqrt(0.5)));
     CHECK(pointTriangleDistance({0.5, -2, 0}, t) == Approx(2));
+}
+
+TEST_CASE("The grid's nearest triangle is the brute-force one, whatever the hint", "[tiles3d]") {
+    // A bumpy sheet of 2,000 small triangles and 1,000 query points around it: the ring search
+    // must give the brute-force oracle's triangle (ties: the smaller index) and point.
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(0.0, 20.0), h(-0.3, 0.3), d(-0.4, 0.4);
+    std::vector<vdbmap::tiles3d::Triangle> tris;
+    for (int i = 0; i < 2000; ++i) {
+        const Eigen::Vector3d a(u(rng), u(rng), h(rng));
+        tris.push_back({a, a + Eigen::Vector3d(d(rng), d(rng), h(rng)), a + Eigen::Vector3d(d(rng), d(rng), h(rng))});
+    }
+    const vdbmap::tiles3d::TriangleGrid grid(tris);
+    std::uniform_real_distribution<double> z(-3.0, 3.0), far(-10.0, 30.0);
+    for (int k = 0; k < 1000; ++k) {
+        const Eigen::Vector3d p = k % 10 == 0 ? Eigen::Vector3d(far(rng), far(rng), far(rng))
+                                              : Eigen::Vector3d(u(rng), u(rng), z(rng));
+        int brute = -1;
+        double best = std::numeric_limits<double>::infinity();
+        for (std::size_t t = 0; t < tris.size(); ++t) {
+            const double dist = vdbmap::tiles3d::pointTriangleDistance(p, tris[t]);
+            if (dist < best) {
+                best = dist;
+                brute = static_cast<int>(t);
+            }
+        }
+        for (const int hint : {-1, 0, static_cast<int>(k % 2000)}) {
+            Eigen::Vector3d q;
+            const int found = grid.nearest(p, q, hint);
+            CHECK(found == brute);
+            CHECK((p - q).norm() == Approx(best).margin(1e-12));
+        }
+    }
 }

@@ -6,6 +6,8 @@
 //    each leaf GLB decodes to exactly the faces, classes and confidences of its tile's
 //    semantic/mesh.ply; each parent's sampled distance to the leaves below it is at most its
 //    geometricError;
+//  - parents simplify: faces fall by 2x or more per level, their texel size doubles;
+//  - tiling.merge writes no run-level GLB beside the tiles';
 //  - untiled: one leaf, the same exactness;
 //  - a run killed after two tiles leaves no tileset.json; --resume ends with the uninterrupted
 //    run's tileset.json and GLBs byte for byte;
@@ -17,10 +19,12 @@
 #include <cstring>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
 
+#include "Bake.h"
 #include "Glb.h"
 #include "Lod.h"
 #include "MeshDistance.h"
@@ -50,7 +54,8 @@ std::string readBytes(const fs::path& p) {
     return s.str();
 }
 
-fs::path config(const std::string& name, bool tiled, const std::string& export_options = "") {
+fs::path config(const std::string& name, bool tiled, const std::string& export_options = "",
+                const std::string& tiling_options = "") {
     const fs::path seq = sequence();
     const fs::path file = workDir() / (name + "." + std::to_string(::getpid()) + ".yaml");
     std::ofstream out(file);
@@ -63,7 +68,10 @@ fs::path config(const std::string& name, bool tiled, const std::string& export_o
         << "  - stage: semantic.mrf\n    max_view_angle_deg: 88\n"
         << "    lidar_labels: true\n    label_map: semantickitti\n"
         << "  - stage: export.3dtiles\n" << export_options;
-    if (tiled) out << "tiling: {tile_size_m: 8, halo_m: 1, occluder_margin_m: 3, max_view_distance_m: 20}\n";
+    if (tiled) {
+        out << "tiling: {tile_size_m: 8, halo_m: 1, occluder_margin_m: 3, max_view_distance_m: 20"
+            << tiling_options << "}\n";
+    }
     return file;
 }
 
@@ -83,12 +91,12 @@ Run run(const fs::path& cfg, const fs::path& out, std::vector<std::string> extra
     return r;
 }
 
-/// A tiled run, made once per process.
+/// A tiled run (with tiling.merge), made once per process.
 const fs::path& tiledRun() {
     static const fs::path out = [] {
         const fs::path o = workDir() / ("tiled." + std::to_string(::getpid()));
         fs::remove_all(o);
-        const Run r = run(config("tiled", true), o);
+        const Run r = run(config("tiled", true, "", ", merge: true"), o);
         INFO(r.log);
         REQUIRE(r.code == 0);
         return o;
@@ -261,9 +269,48 @@ TEST_CASE("A tiled run's tileset follows the 3D Tiles rules; leaves are the sema
     CHECK(leaves == tile_dirs);
     CHECK(leaves >= 4);
     CHECK(parents >= 2);
+    // tiling.merge wrote the whole map's mesh, but no run-level GLB the tileset does not use.
+    CHECK(fs::exists(out / "mesh.ply"));
+    CHECK_FALSE(fs::exists(base / "tile.glb"));
+    CHECK_FALSE(fs::exists(base / "tile.json"));
     // drive_path.json: one position per frame.
     const json path = json::parse(readBytes(base / "drive_path.json"));
     CHECK(path["positions_W"].size() == 8);
+}
+
+TEST_CASE("Parents simplify: faces fall by at least 2x per level, texels grow 2x per level",
+          "[tiles3d][run]") {
+    const fs::path base = tiledRun() / "3dtiles";
+    const json tileset = json::parse(readBytes(base / "tileset.json"));
+    // Faces and texel size per level, counted from the GLBs themselves.
+    std::map<int, std::size_t> faces;
+    std::map<int, double> texel_min, texel_max;
+    std::function<int(const json&)> height = [&](const json& tile) {
+        int h = 0;
+        if (tile.contains("children")) {
+            for (const json& c : tile["children"]) h = std::max(h, height(c) + 1);
+        }
+        if (tile.contains("content")) {
+            const TileMesh m = readGlb(readBytes(base / tile["content"]["uri"].get<std::string>()), "tile");
+            faces[h] += m.faces();
+            if (h > 0) {  // leaves' atlases are texture.mrf's
+                const double t = texelSizeM(m);
+                texel_min[h] = texel_min.count(h) ? std::min(texel_min[h], t) : t;
+                texel_max[h] = std::max(texel_max[h], t);
+            }
+        }
+        return h;
+    };
+    const int levels = height(tileset["root"]);
+    REQUIRE(levels >= 2);
+    for (int l = 1; l <= levels; ++l) {
+        INFO("level " << l << ": " << faces[l] << " faces, level " << l - 1 << ": " << faces[l - 1]);
+        CHECK(faces[l] > 0);
+        CHECK(2 * faces[l] <= faces[l - 1]);
+        if (l >= 2) {  // the texel size doubles (more where a page reached lod_atlas_max_px)
+            CHECK(texel_min[l] >= 1.9 * texel_min[l - 1]);
+        }
+    }
 }
 
 TEST_CASE("Each parent's distance to the full-resolution mesh is at most its geometricError",

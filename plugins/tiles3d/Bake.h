@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+
+#include <vector>
+
+#include "TileMesh.h"
+
+namespace vdbmap::tiles3d {
+
+/// What bakeAtlas did.
+struct BakeFigures {
+    double texel_m = 0;          ///< the texel size used (metres per texel)
+    std::size_t texels = 0;      ///< texels baked (the page's packed rectangles)
+    int page_width = 0, page_height = 0;
+};
+
+/// Metres per texel of a mesh's atlas: sqrt(area of its textured faces in W / their area on
+/// the pages in pixels); 0 when no face is textured.
+double texelSizeM(const TileMesh& mesh);
+
+/// Gives `target` (its corners set, nothing else needed) a fresh atlas baked from `sources`,
+/// and each face a class and confidence from them:
+/// - every face gets its own rectangle on one page: the face laid flat (its longest edge
+///   along x), `texel_m` metres per texel, `gutter_px` texels of margin on each side, sizes
+///   rounded up to even (JPEG's 2 x 2 chroma blocks never straddle two rectangles);
+///   `texel_m` grows until the packed page fits `max_page_px` on a side;
+/// - every texel of a rectangle (margin included: its point is clamped to the face, so the
+///   margin repeats the face's border colours and bilinear sampling does not bleed) is the
+///   colour of the nearest point of the sources' surface: that point's texture coordinates
+///   on its face, sampled bilinearly in the source's page (untextured source faces give the
+///   untextured material's grey);
+/// - a face's class is the most frequent class of the source faces nearest to its texels
+///   inside it (the nearest to its centroid when no texel centre falls inside), its
+///   confidence their mean confidence for that class.
+/// Without any textured source face the target gets no atlas (every face kNoPage).
+/// Deterministic (parallel over faces, each writing its own rectangle).
+void bakeAtlas(TileMesh& target, const std::vector<const TileMesh*>& sources, double texel_m,
+               int max_page_px, int gutter_px = 2, BakeFigures* figures = nullptr);
+
+}  // namespace vdbmap::tiles3d
