@@ -69,7 +69,7 @@ nlohmann::json run(const fs::path& root, const std::string& name, const std::str
 
 }  // namespace
 
-TEST_CASE("Tiles in flight write the files of one tile after the other", "[tiles][pipeline][inflight]") {
+TEST_CASE("Tiles in flight write the files of one tile after the other", "[tiles][pipeline][inflight][heavy]") {
     const fs::path root = streetRoot("same");
     const nlohmann::json one = run(root, "one", ", max_tiles_in_flight: 1");
     const nlohmann::json three = run(root, "three", ", max_tiles_in_flight: 3, memory_budget_gb: 64");
