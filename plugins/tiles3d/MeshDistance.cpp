@@ -144,36 +144,8 @@ double TriangleGrid::cellExit(const Eigen::Vector3d& q, const Eigen::Vector3i& c
 }
 
 double TriangleGrid::distance(const Eigen::Vector3d& p) const {
-    double best = std::numeric_limits<double>::infinity();
-    if (triangles_.empty()) return best;
-    const Eigen::Vector3d q = (p - origin_) / cell_;
-    const Eigen::Vector3i c = q.array().floor().cast<int>().max(0).min(dims_.array() - 1).matrix();
-    const double exit_m = cellExit(q, c);
-    const int max_ring = dims_.maxCoeff();
-    for (int r = 0; r <= max_ring; ++r) {
-        // Every point of a cell in ring r is at least (r - 1) cells plus the way out of cell c
-        // from p: stop once that exceeds the best distance.
-        if (r >= 1 && (r - 1) * cell_ + exit_m > best) break;
-        for (int z = c.z() - r; z <= c.z() + r; ++z) {
-            if (z < 0 || z >= dims_.z()) continue;
-            for (int y = c.y() - r; y <= c.y() + r; ++y) {
-                if (y < 0 || y >= dims_.y()) continue;
-                for (int x = c.x() - r; x <= c.x() + r; ++x) {
-                    if (x < 0 || x >= dims_.x()) continue;
-                    if (std::max({std::abs(x - c.x()), std::abs(y - c.y()), std::abs(z - c.z())}) != r) continue;
-                    const auto k = static_cast<std::size_t>(key(x, y, z));
-                    for (std::uint32_t i = start_[k]; i < start_[k + 1]; ++i) {
-                        const std::uint32_t t = items_[i];
-                        // The triangle's box first: most are farther than the best so far.
-                        const double box = (lo_[t] - p).cwiseMax(p - hi_[t]).cwiseMax(0.0).squaredNorm();
-                        if (box >= best * best) continue;
-                        best = std::min(best, pointTriangleDistance(p, triangles_[t]));
-                    }
-                }
-            }
-        }
-    }
-    return best;
+    Eigen::Vector3d q;
+    return nearest(p, q) < 0 ? std::numeric_limits<double>::infinity() : (p - q).norm();
 }
 
 int TriangleGrid::nearest(const Eigen::Vector3d& p, Eigen::Vector3d& nearest, int hint) const {

@@ -13,6 +13,7 @@
 #include <set>
 
 #include "support/OutputCompare.h"
+#include "support/PluginPath.h"
 #include "vdbmap/Error.h"
 #include "vdbmap/core/Log.h"
 #include "vdbmap/io/MeshIO.h"
@@ -51,10 +52,7 @@ std::map<Face, int> labelledFaces(const TriMesh& mesh, const std::vector<std::ui
     return out;
 }
 
-std::string plugin(const char* name) {
-    return (fs::path(VDBMAP_PLUGIN_BUILD_DIR) / (std::string("vdbmap_plugin_") + name + ".so"))
-        .string();
-}
+std::string plugin(const char* name) { return test::builtPluginPath(name); }
 
 std::string streetYaml(const std::string& extra_semantic, const std::string& tiling,
                        const std::string& dataset_extra = "", bool texture = true) {

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "support/PluginPath.h"
 #include "support/OutputCompare.h"
 #include "vdbmap/Error.h"
 #include "vdbmap/core/Log.h"
@@ -25,10 +26,7 @@ using vdbmap::test::vdbVoxels;
 
 namespace {
 
-std::string plugin(const char* name) {
-    return (fs::path(VDBMAP_PLUGIN_BUILD_DIR) / (std::string("vdbmap_plugin_") + name + ".so"))
-        .string();
-}
+std::string plugin(const char* name) { return test::builtPluginPath(name); }
 
 /// 40 m of street in 8 frames, 6.4 m tiles: about a dozen tiles, most finished while scans come in.
 std::string yaml(const std::string& tiling_extra, const std::string& semantic_extra = "") {
