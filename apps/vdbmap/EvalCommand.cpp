@@ -40,6 +40,7 @@ struct EvalArgs {
     std::string run_dir;
     std::string json_path;
     std::string error_ply;
+    std::string ghost_ply;
     std::string render_dir;
     std::string seq_dir;
     std::string dataset_yaml;
@@ -579,6 +580,7 @@ void runEval(const EvalArgs& args, int& exit_code) {
     // scores of dynamic_points.ply.
     TrafficEvalOptions traffic_options;
     traffic_options.sample_spacing_m = args.sample_spacing_m;
+    traffic_options.ghost_ply = args.ghost_ply;
     nlohmann::json traffic = evalTraffic(gt_dir, run, *gt.raycaster, traffic_options, table);
     if (!traffic.is_null()) report["traffic"] = std::move(traffic);
 
@@ -599,6 +601,9 @@ void addEvalCommand(CLI::App& app, int& exit_code) {
     cmd->add_option("--json", args->json_path, "Write the metrics as JSON to this file");
     cmd->add_option("--error-ply", args->error_ply,
                     "Write the run's mesh with per-vertex error colours (blue 0 -> red max tau)");
+    cmd->add_option("--ghost-ply", args->ghost_ply,
+                    "With traffic (gt/movers.json): write the faces of the run's mesh that count "
+                    "as ghost area to this PLY");
     cmd->add_option("--render-dir", args->render_dir,
                     "Write each held-out view's render, ground truth and difference (x4), top to "
                     "bottom, as DIR/view_NNNNNN.png");

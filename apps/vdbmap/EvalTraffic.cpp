@@ -14,6 +14,25 @@ namespace fs = std::filesystem;
 
 namespace {
 
+/// The faces of (vertices, triangles) whose ghost area is positive, as a PLY at `path`.
+void writeGhostFaces(const fs::path& path, const std::vector<vdbmap::Vec3f>& vertices,
+                     const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                     const std::vector<double>& ghost_area_m2) {
+    vdbmap::TriMesh ghosts;
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+        if (ghost_area_m2[t] <= 0.0) continue;
+        std::array<vdbmap::TriMesh::VertexHandle, 3> vh;
+        for (int k = 0; k < 3; ++k) {
+            const vdbmap::Vec3f& p = vertices[triangles[t][k]];
+            vh[k] = ghosts.add_vertex(vdbmap::TriMesh::Point(p.x(), p.y(), p.z()));
+        }
+        ghosts.add_face(vh[0], vh[1], vh[2]);
+    }
+    vdbmap::PlyWriteOptions options;
+    options.vertex_normals = false;
+    vdbmap::writeMeshPly(path, ghosts, options);
+}
+
 nlohmann::json movingPointsJson(const vdbmap::MovingPointScores& s, const fs::path& ply,
                                 const fs::path& labels) {
     nlohmann::json j;
@@ -60,8 +79,12 @@ nlohmann::json evalTraffic(const fs::path& gt_dir, const fs::path& run_dir,
         std::vector<vdbmap::Vec3f> vertices;
         std::vector<std::array<std::uint32_t, 3>> triangles;
         vdbmap::triMeshArrays(vdbmap::readMeshPly(mesh_path), vertices, triangles);
-        const double ghost = vdbmap::ghostArea(vertices, triangles, static_gt, swept,
-                                               options.ghost_distance_m, options.sample_spacing_m);
+        const std::vector<double> per_face =
+            vdbmap::ghostAreaPerFace(vertices, triangles, static_gt, swept,
+                                     options.ghost_distance_m, options.sample_spacing_m);
+        double ghost = 0.0;
+        for (double a : per_face) ghost += a;
+        if (!options.ghost_ply.empty()) writeGhostFaces(options.ghost_ply, vertices, triangles, per_face);
         j["ghost_area_m2"] = ghost;
         j["ghost_fraction"] =
             swept_ground > 0 ? nlohmann::json(ghost / swept_ground) : nlohmann::json(nullptr);

@@ -15,6 +15,7 @@ struct TrafficEvalOptions {
     double swept_inflate_m = 0.1;    ///< each mover box grown by this on every side
     double footprint_cell_m = 0.05;  ///< raster of the swept ground area
     double sample_spacing_m = 0.02;  ///< sub-triangle size of the ghost area
+    std::filesystem::path ghost_ply;  ///< if set: the run's faces with ghost area, as PLY
 };
 
 /// The traffic section of `vdbmap eval` when `gt_dir`/movers.json exists (vdbmap-sim

@@ -92,6 +92,21 @@ TEST_CASE("Ghost area: a 2 m x 1 m face inside the swept volume counts whole, ou
     CHECK(ghostOfQuad(1.0f, -1.0f, 1.0f, 0.0f, 1.0f) == Approx(1.8).margin(0.03));
 }
 
+TEST_CASE("Ghost area per face: each face its own share, the sum the total", "[eval][traffic]") {
+    std::vector<Vec3f> v;
+    std::vector<std::array<std::uint32_t, 3>> t;
+    addQuadX(v, t, 1.0f, -1.0f, 1.0f, 0.5f, 1.5f);   // inside: 1 m^2 per triangle
+    addQuadX(v, t, 20.0f, -1.0f, 1.0f, 0.5f, 1.5f);  // outside the swept volume
+    const SweptVolume swept(oneBox(), 0.1);
+    const std::vector<double> per_face = ghostAreaPerFace(v, t, ground(), swept, 0.1, 0.02);
+    REQUIRE(per_face.size() == 4);
+    CHECK(per_face[0] == Approx(1.0).margin(0.01));
+    CHECK(per_face[1] == Approx(1.0).margin(0.01));
+    CHECK(per_face[2] == 0.0);
+    CHECK(per_face[3] == 0.0);
+    CHECK(ghostArea(v, t, ground(), swept, 0.1, 0.02) == Approx(per_face[0] + per_face[1]));
+}
+
 TEST_CASE("Swept ground area: the union of the box footprints, in any world frame",
           "[eval][traffic]") {
     // Two 6.2 x 4.2 m footprints 2 m apart: 8.2 m x 4.2 m.

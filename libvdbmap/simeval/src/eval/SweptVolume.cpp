@@ -99,13 +99,13 @@ double SweptVolume::groundArea(double cell_m) const {
     return n * cell_m * cell_m;
 }
 
-double ghostArea(const std::vector<Vec3f>& vertices,
-                 const std::vector<std::array<std::uint32_t, 3>>& triangles,
-                 const Raycaster& static_gt, const SweptVolume& swept, double ghost_distance_m,
-                 double sample_spacing_m) {
-    if (swept.numBoxes() == 0 || triangles.empty()) return 0.0;
-    const double spacing = sample_spacing_m > 0 ? sample_spacing_m : 0.02;
+std::vector<double> ghostAreaPerFace(const std::vector<Vec3f>& vertices,
+                                     const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                                     const Raycaster& static_gt, const SweptVolume& swept,
+                                     double ghost_distance_m, double sample_spacing_m) {
     std::vector<double> area(triangles.size(), 0.0);
+    if (swept.numBoxes() == 0 || triangles.empty()) return area;
+    const double spacing = sample_spacing_m > 0 ? sample_spacing_m : 0.02;
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, triangles.size()),
         [&](const tbb::blocked_range<std::size_t>& range) {
@@ -141,8 +141,18 @@ double ghostArea(const std::vector<Vec3f>& vertices,
                 area[t] = tri_area * static_cast<double>(ghost) / (static_cast<double>(n) * n);
             }
         });
+    return area;
+}
+
+double ghostArea(const std::vector<Vec3f>& vertices,
+                 const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                 const Raycaster& static_gt, const SweptVolume& swept, double ghost_distance_m,
+                 double sample_spacing_m) {
     double total = 0.0;
-    for (double v : area) total += v;
+    for (double v : ghostAreaPerFace(vertices, triangles, static_gt, swept, ghost_distance_m,
+                                     sample_spacing_m)) {
+        total += v;
+    }
     return total;
 }
 

@@ -48,6 +48,13 @@ double ghostArea(const std::vector<Vec3f>& vertices,
                  const Raycaster& static_gt, const SweptVolume& swept, double ghost_distance_m,
                  double sample_spacing_m);
 
+/// The same measure per triangle: entry t is triangle t's ghost area (m^2); ghostArea() is
+/// their sum.
+std::vector<double> ghostAreaPerFace(const std::vector<Vec3f>& vertices,
+                                     const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                                     const Raycaster& static_gt, const SweptVolume& swept,
+                                     double ghost_distance_m, double sample_spacing_m);
+
 /// A point that a run removed as dynamic: its frame number and its index in that frame's scan.
 struct RemovedPoint {
     std::uint32_t frame = 0;
