@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numeric>
 #include <set>
@@ -79,6 +80,10 @@ void validateDynamicRemovalConfig(const DynamicRemovalConfig& c, const std::stri
     }
     if (c.tracks.min_confirmations < 1) bad(who, "track_min_confirmations", ">= 1", c.tracks.min_confirmations);
     if (c.object_keep_hits < 0) bad(who, "object_keep_hits", ">= 0", c.object_keep_hits);
+    if (!(c.object_static_share >= 0.0 && c.object_static_share <= 1.0)) {
+        bad(who, "object_static_share", "in [0, 1]", c.object_static_share);
+    }
+    if (c.grow_voxels < 0 || c.grow_voxels > 10) bad(who, "grow_voxels", "in [0, 10]", c.grow_voxels);
     if (c.votes.min_free_votes < 1) bad(who, "min_free_votes", ">= 1", c.votes.min_free_votes);
     if (!(c.votes.free_fraction >= 0.0 && c.votes.free_fraction <= 1.0)) {
         bad(who, "free_fraction", "in [0, 1]", c.votes.free_fraction);
@@ -234,6 +239,141 @@ void DynamicDetector::replayHistory(std::size_t rank) {
     }
 }
 
+std::vector<PointVotes> DynamicDetector::windowVotes(std::size_t frame,
+                                                    const std::vector<Vec3f>& points_L,
+                                                    const std::vector<std::size_t>& which) {
+    std::vector<PointVotes> votes(which.size());
+    if (which.empty()) return votes;
+    Timer votes_timer;
+    std::vector<std::size_t> first_frames, other_frames;
+    neighbours(frame, first_frames, other_frames);
+    first_frames.insert(first_frames.end(), other_frames.begin(), other_frames.end());
+    std::vector<VoteScan> scans;
+    for (const std::size_t f : first_frames) scans.push_back({&image(f), dataset_.frame(f).T_W_L.inverse()});
+    const Isometry3d& T_W_L = dataset_.frame(frame).T_W_L;
+    std::vector<Vec3f> points_W;
+    points_W.reserve(which.size());
+    for (const std::size_t i : which) points_W.push_back((T_W_L * points_L[i].cast<double>()).cast<float>());
+    dynamicByFreeSpace(points_W, scans, {}, config_.votes, nullptr, &votes);
+    stats_.votes_s += votes_timer.elapsedSeconds();
+    return votes;
+}
+
+void DynamicDetector::objectLevel(std::size_t frame, const std::vector<Vec3f>& points_L,
+                                  std::vector<std::uint8_t>& dynamic) {
+    // 1. This scan's objects, and which are moving: by their own points, or as the
+    //    continuation of a moving track over the scans before.
+    const std::size_t r = rank_.at(frame);
+    replayHistory(r);
+    const ScanObjects objects = findScanObjects(points_L, dynamic, dataset_.frame(frame).T_W_L, config_.objects);
+    objects_[r] = objects.clusters;
+    std::vector<const std::vector<ScanCluster>*> window;
+    for (auto it = objects_.begin(); it != objects_.end() && it->first <= r; ++it) window.push_back(&it->second);
+    std::vector<TrackBox> boxes;
+    const std::vector<std::uint8_t> moving = movingObjects(window, config_.tracks, &boxes);
+    stats_.objects += objects.clusters.size();
+    stats_.objects_moving += static_cast<std::size_t>(std::count(moving.begin(), moving.end(), 1));
+
+    // 2. Candidates, points not moving by their own test that may go with a mover: the other
+    //    points of moving objects, the ground band under them (wheels), and the points of any
+    //    other object next to a point moving by its own test (a mover that joined a static
+    //    object, such as a pedestrian passing a parked car).
+    const auto voxel_m = static_cast<float>(config_.objects.voxel_m);
+    const std::vector<std::uint8_t> low = lowPointsUnder(points_L, objects, moving, voxel_m);
+    const std::vector<std::uint8_t> near =
+        config_.grow_voxels > 0 ? pointsNearDynamic(points_L, dynamic, objects, moving, voxel_m, config_.grow_voxels,
+                                            kGrowSeedPoints)
+                                : std::vector<std::uint8_t>(points_L.size(), 0);
+    std::vector<std::size_t> candidates;
+    for (std::size_t i = 0; i < points_L.size(); ++i) {
+        const std::int32_t c = objects.cluster[i];
+        if (!dynamic[i] && (low[i] || near[i] || (c >= 0 && moving[static_cast<std::size_t>(c)]))) {
+            candidates.push_back(i);
+        }
+    }
+
+    // 3. Static evidence over every scan of the window: a candidate that scans hit and none
+    //    saw through stays.
+    const int keep_hits = config_.object_keep_hits;
+    const std::vector<PointVotes> votes =
+        keep_hits > 0 ? windowVotes(frame, points_L, candidates) : std::vector<PointVotes>(candidates.size());
+    auto kept = [&](std::size_t k) { return keep_hits > 0 && votes[k].free == 0 && votes[k].hit >= keep_hits; };
+
+    // 4. An object moving by its track alone whose candidates are mostly kept is a static
+    //    object the track wrongly continued: it stays whole.
+    std::vector<std::array<std::size_t, 2>> share(objects.clusters.size(), {0, 0});  // kept, all
+    for (std::size_t k = 0; k < candidates.size(); ++k) {
+        const std::int32_t c = objects.cluster[candidates[k]];
+        if (c < 0 || !moving[static_cast<std::size_t>(c)] || objects.clusters[static_cast<std::size_t>(c)].confirmed) continue;
+        share[static_cast<std::size_t>(c)][0] += kept(k) ? 1 : 0;
+        ++share[static_cast<std::size_t>(c)][1];
+    }
+    std::vector<std::uint8_t> stays(objects.clusters.size(), 0);
+    for (std::size_t c = 0; c < share.size(); ++c) {
+        const auto [n_kept, n_all] = share[c];
+        if (n_all > 0 && keep_hits > 0 &&
+            static_cast<double>(n_kept) >= config_.object_static_share * static_cast<double>(n_all)) {
+            stays[c] = 1;
+            ++stats_.objects_kept_static;
+        }
+    }
+    auto staysWhole = [&](std::size_t i) {
+        const std::int32_t c = objects.cluster[i];
+        return c >= 0 && stays[static_cast<std::size_t>(c)];
+    };
+
+    // 5. The objects' points inside the box of a moving track (the whole object where the
+    //    track predicts it, continued or not: an object seen in part, or joined to a static
+    //    one at a kerb) go, without a check per point: the sides of a vehicle slide along their
+    //    own planes, so the scans just before hit some of them. But an object whose points in
+    //    the boxes are mostly kept by static evidence is a static one the box's margin brushes
+    //    (a parked car a moving one passes): those stay.
+    if (!boxes.empty()) {
+        const Isometry3d& T_W_L = dataset_.frame(frame).T_W_L;
+        const double grow = config_.objects.voxel_m;
+        stats_.objects_tracked += boxes.size();
+        std::vector<std::size_t> in_box;
+        for (std::size_t i = 0; i < points_L.size(); ++i) {
+            if (dynamic[i] || objects.cluster[i] < 0 || staysWhole(i)) continue;
+            const Vec3d p = T_W_L * points_L[i].cast<double>();
+            for (const TrackBox& b : boxes) {
+                if ((p.array() >= b.min_W.array() - grow).all() && (p.array() <= b.max_W.array() + grow).all()) {
+                    in_box.push_back(i);
+                    break;
+                }
+            }
+        }
+        const std::vector<PointVotes> box_votes =
+            keep_hits > 0 ? windowVotes(frame, points_L, in_box) : std::vector<PointVotes>(in_box.size());
+        std::vector<std::array<std::size_t, 2>> box_share(objects.clusters.size(), {0, 0});  // kept, all
+        for (std::size_t k = 0; k < in_box.size(); ++k) {
+            auto& sh = box_share[static_cast<std::size_t>(objects.cluster[in_box[k]])];
+            sh[0] += keep_hits > 0 && box_votes[k].free == 0 && box_votes[k].hit >= keep_hits ? 1 : 0;
+            ++sh[1];
+        }
+        for (const std::size_t i : in_box) {
+            const auto& sh = box_share[static_cast<std::size_t>(objects.cluster[i])];
+            if (keep_hits > 0 && static_cast<double>(sh[0]) >= config_.object_static_share * static_cast<double>(sh[1])) continue;
+            dynamic[i] = 1;
+            ++stats_.points_object;
+        }
+    }
+
+    // 6. The candidates that static evidence does not keep go.
+    for (std::size_t k = 0; k < candidates.size(); ++k) {
+        const std::size_t i = candidates[k];
+        if (dynamic[i] || staysWhole(i)) continue;  // in a track's box, or a static object
+        if (kept(k)) {
+            ++stats_.points_kept_by_hits;
+            continue;
+        }
+        dynamic[i] = 1;
+        const std::int32_t c = objects.cluster[i];
+        const bool with_mover = low[i] || (c >= 0 && moving[static_cast<std::size_t>(c)]);
+        ++(with_mover ? stats_.points_object : stats_.points_grown);
+    }
+}
+
 std::vector<std::uint8_t> DynamicDetector::detect(std::size_t frame,
                                                   const std::vector<Vec3f>& points_L,
                                                   const std::vector<std::uint32_t>& index,
@@ -241,7 +381,7 @@ std::vector<std::uint8_t> DynamicDetector::detect(std::size_t frame,
     Timer timer;
     ++stats_.scans;
     stats_.points_in += points_L.size();
-    const std::size_t r = rank_.at(frame);
+    (void)rank_.at(frame);  // throws for a frame the dataset does not have
 
     // Free space: the scans around this one in time.
     std::vector<PointVotes> votes;
@@ -250,76 +390,7 @@ std::vector<std::uint8_t> DynamicDetector::detect(std::size_t frame,
 
     // Objects: whole objects enough of whose points are moving, and the continuations of the
     // tracks of such objects over the scans before.
-    if (config_.objects.enabled) {
-        replayHistory(r);
-        const ScanObjects objects =
-            findScanObjects(points_L, dynamic, dataset_.frame(frame).T_W_L, config_.objects);
-        objects_[r] = objects.clusters;
-        std::vector<const std::vector<ScanCluster>*> window;
-        for (auto it = objects_.begin(); it != objects_.end() && it->first <= r; ++it) {
-            window.push_back(&it->second);
-        }
-        std::vector<TrackBox> coasting;
-        const std::vector<std::uint8_t> moving = movingObjects(window, config_.tracks, &coasting);
-        stats_.objects += objects.clusters.size();
-        stats_.objects_moving += static_cast<std::size_t>(std::count(moving.begin(), moving.end(), 1));
-        const std::vector<std::uint8_t> low =
-            lowPointsUnder(points_L, objects, moving, static_cast<float>(config_.objects.voxel_m));
-        // Points of moving objects not moving by their own test.
-        std::vector<std::size_t> candidates;
-        for (std::size_t i = 0; i < points_L.size(); ++i) {
-            const std::int32_t c = objects.cluster[i];
-            if (!dynamic[i] && (low[i] || (c >= 0 && moving[static_cast<std::size_t>(c)]))) {
-                candidates.push_back(i);
-            }
-        }
-        // Static evidence over every scan of the window: a point of a moving object that scans
-        // hit and none saw through stays (a parked car joined to a moving one in one object,
-        // or an object a track wrongly continued).
-        std::vector<PointVotes> window_votes(candidates.size());
-        if (config_.object_keep_hits > 0 && !candidates.empty()) {
-            Timer votes_timer;
-            std::vector<std::size_t> first_frames, other_frames;
-            neighbours(frame, first_frames, other_frames);
-            first_frames.insert(first_frames.end(), other_frames.begin(), other_frames.end());
-            std::vector<VoteScan> scans;
-            for (const std::size_t f : first_frames) scans.push_back({&image(f), dataset_.frame(f).T_W_L.inverse()});
-            const Isometry3d& T_W_L = dataset_.frame(frame).T_W_L;
-            std::vector<Vec3f> candidates_W;
-            for (const std::size_t i : candidates) candidates_W.push_back((T_W_L * points_L[i].cast<double>()).cast<float>());
-            dynamicByFreeSpace(candidates_W, scans, {}, config_.votes, nullptr, &window_votes);
-            stats_.votes_s += votes_timer.elapsedSeconds();
-        }
-        // Moving tracks no object continued: the objects' points inside the box the track
-        // predicts go (an object that joined a static one at a kerb; its sides slide along
-        // their own planes, so the scans just before hit them: no static-evidence check).
-        if (!coasting.empty()) {
-            const Isometry3d& T_W_L = dataset_.frame(frame).T_W_L;
-            const double grow = config_.objects.voxel_m;
-            stats_.objects_tracked += coasting.size();
-            for (std::size_t i = 0; i < points_L.size(); ++i) {
-                if (dynamic[i] || objects.cluster[i] < 0) continue;
-                const Vec3d p = T_W_L * points_L[i].cast<double>();
-                for (const TrackBox& b : coasting) {
-                    if ((p.array() >= b.min_W.array() - grow).all() && (p.array() <= b.max_W.array() + grow).all()) {
-                        dynamic[i] = 1;
-                        ++stats_.points_object;
-                        break;
-                    }
-                }
-            }
-        }
-        for (std::size_t k = 0; k < candidates.size(); ++k) {
-            if (dynamic[candidates[k]]) continue;  // in a track's box
-            const PointVotes& v = window_votes[k];
-            if (config_.object_keep_hits > 0 && v.free == 0 && v.hit >= config_.object_keep_hits) {
-                ++stats_.points_kept_by_hits;
-                continue;
-            }
-            dynamic[candidates[k]] = 1;
-            ++stats_.points_object;
-        }
-    }
+    if (config_.objects.enabled) objectLevel(frame, points_L, dynamic);
 
     // Labels: SemanticKITTI's moving classes.
     if (config_.use_labels) {

@@ -16,8 +16,24 @@ struct Track {
     int since_confirmed = 0;         ///< scans since its last confirmed object
     int confirmations = 0;
     float extent_m = 0.0f;
-    Vec3d min_W = Vec3d::Zero(), max_W = Vec3d::Zero();  ///< its last object's box
+    /// The object's whole box: its last object's box when that object had the track's size,
+    /// else the whole box before it moved by the velocity (a part of the object seen, or the
+    /// object joined to a static one).
+    Vec3d min_W = Vec3d::Zero(), max_W = Vec3d::Zero();
+    Vec3d centre() const { return 0.5 * (min_W + max_W); }
 };
+
+/// True if an object of horizontal extent `a_m` can be the whole of one of extent `b_m`:
+/// within 20 % of the larger, or 0.3 m.
+bool sameSize(float a_m, float b_m) {
+    return std::abs(a_m - b_m) <= std::max(0.2f * std::max(a_m, b_m), 0.3f);
+}
+
+/// Distance between two boxes (0 if they overlap).
+double boxGap(const Vec3d& a_min, const Vec3d& a_max, const Vec3d& b_min, const Vec3d& b_max) {
+    const Vec3d gap = (a_min - b_max).cwiseMax(b_min - a_max).cwiseMax(Vec3d::Zero());
+    return gap.norm();
+}
 
 }  // namespace
 
@@ -35,36 +51,52 @@ std::vector<std::uint8_t> movingObjects(const std::vector<const std::vector<Scan
     for (std::size_t w = 0; w < window.size(); ++w) {
         const std::vector<ScanCluster>& objects = *window[w];
         const bool last_scan = w + 1 == window.size();
-        // Candidate pairs within the gate, nearest first (ties by track, then object: the
+        // Candidate pairs within the gate: the object's box within gate_m of the box the track
+        // predicts (a part of the object seen has another centroid, but lies in that box),
+        // nearest box first, then nearest predicted centroid (ties by track, then object: the
         // result does not depend on anything but the window).
-        std::vector<std::tuple<double, std::size_t, std::size_t>> pairs;
+        std::vector<std::tuple<double, double, std::size_t, std::size_t>> pairs;
         for (std::size_t t = 0; t < tracks.size(); ++t) {
             const Track& tr = tracks[t];
             const double steps = static_cast<double>(tr.missed + 1);
-            const Vec3d predicted = tr.has_velocity ? Vec3d(tr.last + steps * tr.velocity) : tr.last;
+            const Vec3d shift = tr.has_velocity ? Vec3d(steps * tr.velocity) : Vec3d::Zero();
+            const Vec3d predicted = tr.last + shift;
             const double gate = tr.has_velocity ? config.gate_m : config.max_step_m * steps;
             for (std::size_t i = 0; i < objects.size(); ++i) {
                 const ScanCluster& o = objects[i];
                 if (!o.confirmed && (!o.compact || o.extent_m > 2.0f * tr.extent_m + 1.0f)) continue;
-                const double d = (o.centroid_W - predicted).norm();
-                if (d <= gate) pairs.emplace_back(d, t, i);
+                const double gap = boxGap(o.min_W, o.max_W, tr.min_W + shift, tr.max_W + shift);
+                if (gap <= gate) pairs.emplace_back(gap, (o.centroid_W - predicted).norm(), t, i);
             }
         }
         std::sort(pairs.begin(), pairs.end());
         std::vector<char> track_used(tracks.size(), 0), object_used(objects.size(), 0);
-        for (const auto& [d, t, i] : pairs) {
+        for (const auto& [gap, d, t, i] : pairs) {
             if (track_used[t] || object_used[i]) continue;
             track_used[t] = object_used[i] = 1;
             Track& tr = tracks[t];
             const ScanCluster& o = objects[i];
-            const Vec3d step = (o.centroid_W - tr.last) / static_cast<double>(tr.missed + 1);
-            tr.velocity = tr.has_velocity ? 0.5 * (tr.velocity + step) : step;
-            tr.has_velocity = true;
+            const double steps = static_cast<double>(tr.missed + 1);
+            if (sameSize(o.extent_m, tr.extent_m)) {
+                // The whole object again: its box moved by the step, and becomes the track's.
+                const Vec3d step = (0.5 * (o.min_W + o.max_W) - tr.centre()) / steps;
+                tr.velocity = tr.has_velocity ? Vec3d(0.5 * (tr.velocity + step)) : step;
+                tr.has_velocity = true;
+                tr.min_W = o.min_W;
+                tr.max_W = o.max_W;
+                tr.extent_m = o.extent_m;
+            } else {
+                // A part of it, or it joined a static object: the whole box moves on by the
+                // velocity (by the centroid's step while the track has none).
+                if (!tr.has_velocity) {
+                    tr.velocity = (o.centroid_W - tr.last) / steps;
+                    tr.has_velocity = true;
+                }
+                tr.min_W += steps * tr.velocity;
+                tr.max_W += steps * tr.velocity;
+            }
             tr.last = o.centroid_W;
             tr.missed = 0;
-            tr.extent_m = o.extent_m;
-            tr.min_W = o.min_W;
-            tr.max_W = o.max_W;
             if (o.confirmed) {
                 tr.since_confirmed = 0;
                 ++tr.confirmations;
@@ -74,6 +106,7 @@ std::vector<std::uint8_t> movingObjects(const std::vector<const std::vector<Scan
             if (last_scan && tr.confirmations >= config.min_confirmations &&
                 tr.since_confirmed <= config.frames) {
                 moving[i] = 1;
+                if (coasting != nullptr) coasting->push_back({tr.min_W, tr.max_W});
             }
         }
         // Unmatched tracks coast; those lost or no longer moving end.

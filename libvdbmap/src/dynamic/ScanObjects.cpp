@@ -234,4 +234,58 @@ std::vector<std::uint8_t> lowPointsUnder(const std::vector<Vec3f>& points_L, con
     return out;
 }
 
+std::vector<std::uint8_t> pointsNearDynamic(const std::vector<Vec3f>& points_L,
+                                            const std::vector<std::uint8_t>& dynamic,
+                                            const ScanObjects& objects,
+                                            const std::vector<std::uint8_t>& moving, float voxel_m,
+                                            int rings, int min_seed_points) {
+    std::vector<std::uint8_t> out(points_L.size(), 0);
+    const float inv = 1.0f / voxel_m;
+    auto voxelOf = [&](const Vec3f& p) {
+        return std::array<std::int64_t, 3>{static_cast<std::int64_t>(std::floor(p.x() * inv)),
+                                           static_cast<std::int64_t>(std::floor(p.y() * inv)),
+                                           static_cast<std::int64_t>(std::floor(p.z() * inv))};
+    };
+    // The voxels holding a dynamic point.
+    std::size_t n_dynamic = 0;
+    for (const std::uint8_t d : dynamic) n_dynamic += d;
+    if (n_dynamic == 0 || rings <= 0) return out;
+    // Seeds: voxels with at least kSeedPoints dynamic points (a lone false detection grows
+    // nothing).
+    VoxelTable table(n_dynamic + 16);
+    std::vector<std::uint32_t> count;
+    for (std::size_t i = 0; i < points_L.size(); ++i) {
+        if (!dynamic[i]) continue;
+        const auto v = voxelOf(points_L[i]);
+        const auto next = static_cast<std::uint32_t>(count.size());
+        const std::uint32_t id = table.insert(voxelKey(v[0], v[1], v[2]), next);
+        if (id == next) count.push_back(0);
+        ++count[id];
+    }
+    VoxelTable seeds(n_dynamic + 16);
+    for (std::size_t i = 0; i < points_L.size(); ++i) {
+        if (!dynamic[i]) continue;
+        const auto v = voxelOf(points_L[i]);
+        const std::uint64_t key = voxelKey(v[0], v[1], v[2]);
+        if (count[static_cast<std::size_t>(table.find(key))] >= static_cast<std::uint32_t>(min_seed_points)) {
+            seeds.insert(key, 0);
+        }
+    }
+    for (std::size_t i = 0; i < points_L.size(); ++i) {
+        const std::int32_t c = objects.cluster[i];
+        if (dynamic[i] || c < 0 || moving[static_cast<std::size_t>(c)]) continue;
+        const auto v = voxelOf(points_L[i]);
+        bool found = false;
+        for (int dz = -rings; dz <= rings && !found; ++dz) {
+            for (int dy = -rings; dy <= rings && !found; ++dy) {
+                for (int dx = -rings; dx <= rings && !found; ++dx) {
+                    found = seeds.find(voxelKey(v[0] + dx, v[1] + dy, v[2] + dz)) >= 0;
+                }
+            }
+        }
+        out[i] = found ? 1 : 0;
+    }
+    return out;
+}
+
 }  // namespace vdbmap

@@ -78,6 +78,15 @@ void declareDynamicOptions(OptionSpec& spec, DynamicRemovalConfig& c) {
              "A point of a moving object that at least this many scans hit and none saw through "
              "stays (0 = never)",
              c.object_keep_hits, 2);
+    spec.add("dynamic_object_static_share",
+             "An object moving by its track alone whose points are at least this share kept by "
+             "static evidence stays whole (a parked car a moving one passed)",
+             c.object_static_share, 0.5);
+    spec.add("dynamic_grow_voxels",
+             "Points of an object not moving within this many object voxels of a voxel with 4 points "
+             "moving by their own test go too unless static evidence keeps them (a pedestrian "
+             "passing a parked car); 0 = off",
+             c.grow_voxels, 1, "voxels");
     spec.add("dynamic_ground_band_m",
              "Points less than this above the local ground height (lowest points around, with a "
              "slope allowance) are ground and join no object",
@@ -156,6 +165,8 @@ void DynamicRemovalStep::finish(Context& ctx, const std::string& stage) const {
     r.set(key("range_images"), s.images_built);
     r.set(key("points_object"), s.points_object);
     r.set(key("points_kept_by_hits"), s.points_kept_by_hits);
+    r.set(key("points_grown"), s.points_grown);
+    r.set(key("objects_kept_static"), s.objects_kept_static);
     r.set(key("objects"), s.objects);
     r.set(key("objects_moving"), s.objects_moving);
     r.set(key("objects_tracked"), s.objects_tracked);

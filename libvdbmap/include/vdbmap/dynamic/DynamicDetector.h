@@ -43,6 +43,15 @@ struct DynamicRemovalConfig {
     /// the whole window hit (a return within the margin of it) and none saw through stays:
     /// static evidence beats the object's decision; 0 = never.
     int object_keep_hits = 2;
+    /// An object moving by its track alone (not by its own points) whose candidate points are
+    /// at least this share kept by static evidence stays whole: it is a static object the track
+    /// wrongly continued (a parked car a moving one passed). 1 = only when all are kept.
+    double object_static_share = 0.5;
+    /// The points of an object not moving, within this many object voxels of a voxel with at
+    /// least 4 points moving by their own test, go too unless static evidence keeps them: a
+    /// mover joined to a static object in one object (a pedestrian passing a parked car).
+    /// 0 = off.
+    int grow_voxels = 1;
 };
 
 /// Throws ConfigError naming `who` and the option for a value out of range.
@@ -67,6 +76,8 @@ struct DynamicStats {
     std::size_t images_built = 0;        ///< range images made (each frame at most once per pass)
     std::size_t points_object = 0;       ///< removed by the object level (not by their own test)
     std::size_t points_kept_by_hits = 0; ///< of a moving object, kept by static evidence
+    std::size_t points_grown = 0;        ///< removed next to a moving point, in a static object
+    std::size_t objects_kept_static = 0; ///< moving by their track, kept whole by evidence
     std::size_t objects = 0;             ///< objects found (summed over the scans decided)
     std::size_t objects_moving = 0;      ///< of which moving
     std::size_t objects_tracked = 0;     ///< of which moving by their track alone
@@ -113,6 +124,14 @@ private:
     /// The objects of the scans within trackHistory() before time rank `rank`, found now for
     /// those not seen yet (a run that starts mid-sequence).
     void replayHistory(std::size_t rank);
+    /// The object level (docs/dynamic.md, "Objects"): adds to `dynamic` the points of moving
+    /// objects and of their surroundings that static evidence does not keep.
+    void objectLevel(std::size_t frame, const std::vector<Vec3f>& points_L,
+                     std::vector<std::uint8_t>& dynamic);
+    /// Free and hit votes of the scans of the whole window for the points `points_L[i]`, i in
+    /// `which`, of `frame`.
+    std::vector<PointVotes> windowVotes(std::size_t frame, const std::vector<Vec3f>& points_L,
+                                        const std::vector<std::size_t>& which);
 
     const Dataset& dataset_;
     DynamicRemovalConfig config_;
@@ -120,6 +139,9 @@ private:
     std::vector<std::size_t> rank_;   ///< position of each frame in order_
     std::string time_order_;
     static constexpr std::size_t kFirstPass = 4;
+    /// An object voxel seeds grow_voxels with at least this many points moving by their own
+    /// test (a lone wrong vote grows nothing).
+    static constexpr int kGrowSeedPoints = 4;
     std::vector<int> offsets_;  ///< -o, +o for each offset o, largest first
     std::map<std::size_t, std::unique_ptr<RangeImage>> images_;  ///< by time rank
     std::map<std::size_t, std::vector<ScanCluster>> objects_;     ///< by time rank

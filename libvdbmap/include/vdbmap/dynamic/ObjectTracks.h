@@ -32,19 +32,26 @@ struct ObjectTrackConfig {
 inline int trackHistory(const ObjectTrackConfig& c) { return c.frames > 0 ? c.frames + 2 : 0; }
 
 /// `window`: the objects of consecutive scans in time order, the scan being decided last. Runs
-/// a fresh tracker over the window (nearest predicted centroid, greedy one-to-one by distance;
-/// only objects confirmed moving start tracks) and returns, for each object of the last scan,
-/// 1 if it is moving: confirmed itself, or (compact and at most twice the track's last extent
-/// + 1 m) the continuation of a track with at least min_confirmations confirmed objects, the
-/// last of them at most `frames` scans before.
-/// `coasting` (may be null) gets, for each moving track that no object of the last scan
-/// continued (its object joined a static one, or was not seen), the box (W) of its last object
-/// moved by its velocity to the last scan: what the track predicts the object occupies.
+/// a fresh tracker over the window and returns, for each object of the last scan, 1 if it is
+/// moving: confirmed itself, or (compact and at most twice the track's last extent + 1 m) the
+/// continuation of a track with at least min_confirmations confirmed objects, the last of them
+/// at most `frames` scans before.
+/// - Association, greedy one to one: an object continues the track whose predicted box (the
+///   track's box moved by its velocity) is nearest to the object's box, within gate_m (a track
+///   without a velocity yet: max_step_m per scan), ties by the distance to the predicted
+///   centroid. A part of an object lies in the whole object's box, though its centroid is
+///   elsewhere.
+/// - The track's box is the whole object's: an object of the track's size (sameSize) replaces
+///   it and gives the velocity (the step of the box centres, averaged); a smaller object (a
+///   part seen) or a larger one (joined to a static object) moves the old box by the velocity.
+/// `boxes` (may be null) gets the box (W) of each track moving at the last scan, continued or
+/// not (its object joined a static one, or was not seen): what the track predicts the object
+/// occupies.
 struct TrackBox {
     Vec3d min_W, max_W;
 };
 std::vector<std::uint8_t> movingObjects(const std::vector<const std::vector<ScanCluster>*>& window,
                                         const ObjectTrackConfig& config,
-                                        std::vector<TrackBox>* coasting = nullptr);
+                                        std::vector<TrackBox>* boxes = nullptr);
 
 }  // namespace vdbmap
