@@ -5,13 +5,24 @@
 #include <cmath>
 #include <array>
 #include <cstdint>
-#include <map>
+#include <unordered_map>
 
 #include <meshoptimizer.h>
 
 #include "Bake.h"
 
 namespace vdbmap::tiles3d {
+namespace {
+
+struct PositionKeyHash {
+    std::size_t operator()(const std::array<std::int64_t, 3>& k) const {
+        std::uint64_t h = 1469598103934665603ull;
+        for (const std::int64_t v : k) h = (h ^ static_cast<std::uint64_t>(v)) * 1099511628211ull;
+        return static_cast<std::size_t>(h ^ (h >> 29));
+    }
+};
+
+}  // namespace
 
 std::vector<std::array<Eigen::Vector3d, 3>> trianglesW(const TileMesh& mesh) {
     std::vector<std::array<Eigen::Vector3d, 3>> t(mesh.faces());
@@ -31,7 +42,11 @@ TileMesh buildParent(const std::vector<const TileMesh*>& children, const ParentO
 
     // Weld by position only: texture seams and class borders are no borders for the
     // simplification (the parent gets its own atlas and classes below).
-    std::map<std::array<std::int64_t, 3>, std::uint32_t> index_of;
+    // (Vertex ids in order of first appearance: the hash map only answers lookups.)
+    std::unordered_map<std::array<std::int64_t, 3>, std::uint32_t, PositionKeyHash> index_of;
+    std::size_t corner_count = 0;
+    for (const TileMesh* c : children) corner_count += 3 * c->faces();
+    index_of.reserve(corner_count / 2);
     std::vector<float> positions;
     std::vector<std::uint32_t> indices;
     std::size_t merged = 0;
@@ -102,6 +117,7 @@ TileMesh buildParent(const std::vector<const TileMesh*>& children, const ParentO
         figures->child_texel_m = child_texel_m;
         figures->texel_m = bake.texel_m;
         figures->texels = bake.texels;
+        figures->charts = bake.charts;
     }
     return parent;
 }

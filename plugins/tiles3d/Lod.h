@@ -21,6 +21,7 @@ struct ParentFigures {
     double child_texel_m = 0;     ///< the children's texel size (metres per texel)
     double texel_m = 0;           ///< the parent's (2 x the children's, more if the page was full)
     std::size_t texels = 0;       ///< texels baked
+    std::size_t charts = 0;       ///< charts on the parent's page
 };
 
 /// A parent of the quadtree: the children's faces merged, welded by position only (texture
