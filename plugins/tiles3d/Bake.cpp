@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <numeric>
+#include <string>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -81,7 +83,7 @@ double texelSizeM(const TileMesh& mesh) {
 }
 
 void bakeAtlas(TileMesh& target, const std::vector<const TileMesh*>& sources, double texel_m,
-               int max_page_px, int gutter_px, BakeFigures* figures) {
+               int max_page_px, int gutter_px, BakeFigures* figures, const TriangleGrid* sources_grid) {
     const std::size_t n = target.faces();
     target.page.assign(n, kNoPage);
     target.label.assign(n, 255);
@@ -96,13 +98,19 @@ void bakeAtlas(TileMesh& target, const std::vector<const TileMesh*>& sources, do
     for (std::size_t s = 0; s < sources.size(); ++s) {
         const TileMesh& m = *sources[s];
         for (std::size_t f = 0; f < m.faces(); ++f) {
-            triangles.push_back({m.cornerW(f, 0), m.cornerW(f, 1), m.cornerW(f, 2)});
+            if (!sources_grid) triangles.push_back({m.cornerW(f, 0), m.cornerW(f, 1), m.cornerW(f, 2)});
             origin.emplace_back(static_cast<std::uint32_t>(s), static_cast<std::uint32_t>(f));
             textured = textured || (m.page[f] != kNoPage && !m.uvs.empty());
         }
     }
-    if (n == 0 || triangles.empty()) return;
-    const TriangleGrid grid(std::move(triangles));
+    if (sources_grid && sources_grid->size() != origin.size()) {
+        throw InvalidInput("bakeAtlas: the sources' grid has " + std::to_string(sources_grid->size()) +
+                           " triangles, the sources " + std::to_string(origin.size()) + " faces");
+    }
+    if (n == 0 || origin.empty()) return;
+    std::unique_ptr<TriangleGrid> own_grid;
+    if (!sources_grid) own_grid = std::make_unique<TriangleGrid>(std::move(triangles));
+    const TriangleGrid& grid = sources_grid ? *sources_grid : *own_grid;
     textured = textured && texel_m > 0;
 
     // The layout: charts of faces laid flat (Charts.h), each at texel_m metres per texel of
@@ -252,22 +260,42 @@ void bakeAtlas(TileMesh& target, const std::vector<const TileMesh*>& sources, do
                                                            static_cast<float>((ch.y + px[j][k].y()) * inv_h));
                     }
                 }
+                // Texels inside a face first (each the sources' colour at its point), then the
+                // margin texels: the colour of the inside texel under their point on the face
+                // (a dilation), or the sources' where that texel is not inside a face.
                 int hint = -1;
-                for (int r = 0; r < ch.h; ++r) {
-                    for (int c = 0; c < ch.w; ++c) {
-                        const std::int32_t j = owner[std::size_t(r) * std::size_t(ch.w) + std::size_t(c)];
-                        if (j < 0) continue;
-                        const std::size_t f = ch.faces[static_cast<std::size_t>(j)];
-                        const Nearest2 on = nearestOnTriangle2(Eigen::Vector2d(c + 0.5, r + 0.5), px[static_cast<std::size_t>(j)]);
-                        Eigen::Vector3d p = Eigen::Vector3d::Zero();
-                        for (int k = 0; k < 3; ++k) p += on.weights[k] * target.cornerW(f, k);
-                        cv::Vec3b colour = kUntexturedBgr;
-                        std::uint8_t label = 255;
-                        float conf = 0;
-                        if (sample(p, hint, &colour, &label, &conf) && on.distance2 == 0) {
-                            votes[static_cast<std::size_t>(j)].emplace_back(label, conf);
+                std::vector<char> inner(owner.size(), 0);
+                for (int pass = 0; pass < 2; ++pass) {
+                    for (int r = 0; r < ch.h; ++r) {
+                        for (int c = 0; c < ch.w; ++c) {
+                            const std::size_t t = std::size_t(r) * std::size_t(ch.w) + std::size_t(c);
+                            const std::int32_t j = owner[t];
+                            if (j < 0) continue;
+                            const auto& tri = px[static_cast<std::size_t>(j)];
+                            const Nearest2 on = nearestOnTriangle2(Eigen::Vector2d(c + 0.5, r + 0.5), tri);
+                            const bool inside = on.distance2 == 0;
+                            if (inside != (pass == 0)) continue;
+                            if (!inside) {
+                                const Eigen::Vector2d at = on.weights[0] * tri[0] + on.weights[1] * tri[1] + on.weights[2] * tri[2];
+                                const int ac = std::clamp(static_cast<int>(std::floor(at.x())), 0, ch.w - 1);
+                                const int ar = std::clamp(static_cast<int>(std::floor(at.y())), 0, ch.h - 1);
+                                if (inner[std::size_t(ar) * std::size_t(ch.w) + std::size_t(ac)]) {
+                                    page->at<cv::Vec3b>(ch.y + r, ch.x + c) = page->at<cv::Vec3b>(ch.y + ar, ch.x + ac);
+                                    continue;
+                                }
+                            }
+                            const std::size_t f = ch.faces[static_cast<std::size_t>(j)];
+                            Eigen::Vector3d p = Eigen::Vector3d::Zero();
+                            for (int k = 0; k < 3; ++k) p += on.weights[k] * target.cornerW(f, k);
+                            cv::Vec3b colour = kUntexturedBgr;
+                            std::uint8_t label = 255;
+                            float conf = 0;
+                            if (sample(p, hint, &colour, &label, &conf) && inside) {
+                                votes[static_cast<std::size_t>(j)].emplace_back(label, conf);
+                            }
+                            page->at<cv::Vec3b>(ch.y + r, ch.x + c) = colour;
+                            inner[t] = inside ? 1 : 0;
                         }
-                        page->at<cv::Vec3b>(ch.y + r, ch.x + c) = colour;
                     }
                 }
                 for (std::size_t j = 0; j < ch.faces.size(); ++j) {

@@ -3,6 +3,7 @@
 
 #include <vector>
 
+#include "MeshDistance.h"
 #include "TileMesh.h"
 
 namespace vdbmap::tiles3d {
@@ -38,7 +39,10 @@ double texelSizeM(const TileMesh& mesh);
 ///   confidence their mean confidence for that class.
 /// Without any textured source face the target gets no atlas (every face kNoPage).
 /// Deterministic (parallel over charts, each writing its own rectangle and faces).
+/// `sources_grid`, if given, holds the sources' faces in W in order (source by source, face by
+/// face), as the caller may have built it already; else bakeAtlas builds it.
 void bakeAtlas(TileMesh& target, const std::vector<const TileMesh*>& sources, double texel_m,
-               int max_page_px, int gutter_px = 2, BakeFigures* figures = nullptr);
+               int max_page_px, int gutter_px = 2, BakeFigures* figures = nullptr,
+               const TriangleGrid* sources_grid = nullptr);
 
 }  // namespace vdbmap::tiles3d

@@ -10,6 +10,7 @@
 #include <meshoptimizer.h>
 
 #include "Bake.h"
+#include "vdbmap/core/Timer.h"
 
 namespace vdbmap::tiles3d {
 namespace {
@@ -33,7 +34,8 @@ std::vector<std::array<Eigen::Vector3d, 3>> trianglesW(const TileMesh& mesh) {
 }
 
 TileMesh buildParent(const std::vector<const TileMesh*>& children, const ParentOptions& options,
-                     ParentFigures* figures) {
+                     ParentFigures* figures, const TriangleGrid* children_grid) {
+    Timer step;
     TileMesh parent;
     Bounds bounds;
     for (const TileMesh* c : children) bounds.add(boundsW(*c));
@@ -80,6 +82,8 @@ TileMesh buildParent(const std::vector<const TileMesh*>& children, const ParentO
     }
     index_of.clear();
     const std::size_t vertex_count = positions.size() / 3;
+    const double weld_s = step.elapsedSeconds();
+    step.reset();
 
     // A quarter of the faces, at most voxel_size_m * 2^level of error. No LockBorder: it would
     // lock every open border of the mesh too (meshoptimizer 0.18 cannot lock a chosen subset),
@@ -107,10 +111,13 @@ TileMesh buildParent(const std::vector<const TileMesh*>& children, const ParentO
         }
     }
 
+    const double simplify_s = step.elapsedSeconds();
+    step.reset();
+
     // A fresh atlas at twice the children's texel size, baked from them.
     const double child_texel_m = area_px > 0 ? std::sqrt(area_m2 / area_px) : 0.0;
     BakeFigures bake;
-    bakeAtlas(parent, children, 2.0 * child_texel_m, options.max_atlas_px, options.gutter_px, &bake);
+    bakeAtlas(parent, children, 2.0 * child_texel_m, options.max_atlas_px, options.gutter_px, &bake, children_grid);
     if (figures) {
         figures->merged_faces = merged;
         figures->faces = n;
@@ -118,6 +125,9 @@ TileMesh buildParent(const std::vector<const TileMesh*>& children, const ParentO
         figures->texel_m = bake.texel_m;
         figures->texels = bake.texels;
         figures->charts = bake.charts;
+        figures->weld_s = weld_s;
+        figures->simplify_s = simplify_s;
+        figures->bake_s = step.elapsedSeconds();
     }
     return parent;
 }

@@ -339,7 +339,7 @@ void Tiles3dStage::finishRun(Context& ctx, const std::vector<FinishedTile>& tile
     levels.push_back({{"level", 0}, {"tiles", level.size()}, {"faces", leaf_faces},
                       {"geometric_error_m", 0.0}});
     int depth = 0;
-    double read_s = 0, build_s = 0, measure_s = 0, write_s = 0;
+    double read_s = 0, build_s = 0, measure_s = 0, write_s = 0, weld_s = 0, simplify_s = 0, bake_s = 0;
     std::size_t distance_queries = 0;
     json level_times_s = json::array();  // the report's only: the tileset does not depend on time
     while (level.size() > 1) {
@@ -396,18 +396,20 @@ void Tiles3dStage::finishRun(Context& ctx, const std::vector<FinishedTile>& tile
             po.level = depth;
             po.voxel_size_m = voxel_size_m;
             po.max_atlas_px = lod_atlas_max_px_;
-            job.read_s = step.elapsedSeconds();
-            step.reset();
-            TileMesh parent = buildParent(ptrs, po, &job.pf);
-            job.build_s = step.elapsedSeconds();
-            step.reset();
-            // The measured bound: distance from the parent to its children, plus theirs.
+            // The children's faces in W, in order: the bake's nearest points and the measured
+            // bound both search them.
             std::vector<Triangle> reference;
             for (const TileMesh& m : meshes) {
                 for (const auto& t : trianglesW(m)) reference.push_back(t);
             }
-            meshes.clear();
             const TriangleGrid grid(std::move(reference));
+            job.read_s = step.elapsedSeconds();
+            step.reset();
+            TileMesh parent = buildParent(ptrs, po, &job.pf, &grid);
+            job.build_s = step.elapsedSeconds();
+            step.reset();
+            // The measured bound: distance from the parent to its children, plus theirs.
+            meshes.clear();
             job.d = hausdorffBound(trianglesW(parent), grid, std::max(0.5 * voxel_size_m, 0.25 * job.child_error),
                                    &job.queries);
             job.measure_s = step.elapsedSeconds();
@@ -444,6 +446,9 @@ void Tiles3dStage::finishRun(Context& ctx, const std::vector<FinishedTile>& tile
                 level_charts += job.pf.charts;
                 read_s += job.read_s;
                 build_s += job.build_s;
+                weld_s += job.pf.weld_s;
+                simplify_s += job.pf.simplify_s;
+                bake_s += job.pf.bake_s;
                 measure_s += job.measure_s;
                 write_s += job.write_s;
                 distance_queries += job.queries;
@@ -512,6 +517,9 @@ void Tiles3dStage::finishRun(Context& ctx, const std::vector<FinishedTile>& tile
     report.stage(stage, "leaves", leaves.size());
     report.set({"stages", stage, "lod_timings_s", "read_children"}, read_s);
     report.set({"stages", stage, "lod_timings_s", "merge_simplify_bake"}, build_s);
+    report.set({"stages", stage, "lod_timings_s", "weld"}, weld_s);
+    report.set({"stages", stage, "lod_timings_s", "simplify"}, simplify_s);
+    report.set({"stages", stage, "lod_timings_s", "bake"}, bake_s);
     report.set({"stages", stage, "lod_timings_s", "measure_error"}, measure_s);
     report.set({"stages", stage, "lod_timings_s", "encode_write"}, write_s);
     report.setJson({"stages", stage, "lod_timings_s", "levels"}, level_times_s.dump());
