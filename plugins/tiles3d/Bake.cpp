@@ -181,6 +181,7 @@ void bakeAtlas(TileMesh& target, const std::vector<const TileMesh*>& sources, do
         target.uvs.resize(n);
     }
     cv::Mat* page = textured ? &target.pages.front() : nullptr;
+    std::vector<double> chart_distance;  // per chart: the largest texel distance
 
     // A face's class and confidence: the most frequent class of its votes, their mean confidence.
     auto decide = [&](std::size_t f, std::vector<std::pair<std::uint8_t, float>>& votes) {
@@ -203,11 +204,13 @@ void bakeAtlas(TileMesh& target, const std::vector<const TileMesh*>& sources, do
     };
     // Nearest source point of a W point (a local search in the grid's cells, the previous
     // query's triangle tried first): its colour, class and confidence.
-    auto sample = [&](const Eigen::Vector3d& p, int& hint, cv::Vec3b* colour, std::uint8_t* label, float* conf) {
+    auto sample = [&](const Eigen::Vector3d& p, int& hint, cv::Vec3b* colour, std::uint8_t* label, float* conf,
+                      double* distance_m = nullptr) {
         Eigen::Vector3d q;
         const int i = grid.nearest(p, q, hint);
         if (i < 0) return false;
         hint = i;
+        if (distance_m) *distance_m = std::max(*distance_m, (p - q).norm());
         const auto [s, sf] = origin[static_cast<std::size_t>(i)];
         const TileMesh& m = *sources[s];
         if (label) *label = m.label[sf];
@@ -246,6 +249,7 @@ void bakeAtlas(TileMesh& target, const std::vector<const TileMesh*>& sources, do
         // colour there; texel centres inside a face vote for its class. Parallel over charts,
         // each writing its own rectangle and faces, in a fixed order within a chart.
         const double inv_w = 1.0 / page->cols, inv_h = 1.0 / page->rows;
+        chart_distance.assign(charts.size(), 0.0);
         tbb::parallel_for(tbb::blocked_range<std::size_t>(0, charts.size(), 1), [&](const auto& range) {
             for (std::size_t i = range.begin(); i != range.end(); ++i) {
                 const Chart& ch = charts[i];
@@ -290,7 +294,7 @@ void bakeAtlas(TileMesh& target, const std::vector<const TileMesh*>& sources, do
                             cv::Vec3b colour = kUntexturedBgr;
                             std::uint8_t label = 255;
                             float conf = 0;
-                            if (sample(p, hint, &colour, &label, &conf) && inside) {
+                            if (sample(p, hint, &colour, &label, &conf, &chart_distance[i]) && inside) {
                                 votes[static_cast<std::size_t>(j)].emplace_back(label, conf);
                             }
                             page->at<cv::Vec3b>(ch.y + r, ch.x + c) = colour;
@@ -312,6 +316,8 @@ void bakeAtlas(TileMesh& target, const std::vector<const TileMesh*>& sources, do
         std::size_t texels = 0;
         for (const Chart& ch : charts) texels += std::size_t(ch.w) * std::size_t(ch.h);
         figures->charts = charts.size();
+        figures->max_texel_distance_m =
+            chart_distance.empty() ? 0.0 : *std::max_element(chart_distance.begin(), chart_distance.end());
         figures->texels = texels;
     }
 }

@@ -13,6 +13,9 @@ struct BakeFigures {
     double texel_m = 0;          ///< the texel size used (metres per texel)
     std::size_t texels = 0;      ///< texels baked (the page's packed rectangles)
     std::size_t charts = 0;      ///< charts on the page
+    /// The largest distance from a texel's point on the target to the sources' surface (a
+    /// measured distance: a lower bound of the target's distance to the sources).
+    double max_texel_distance_m = 0;
     int page_width = 0, page_height = 0;
 };
 

@@ -125,6 +125,7 @@ TileMesh buildParent(const std::vector<const TileMesh*>& children, const ParentO
         figures->texel_m = bake.texel_m;
         figures->texels = bake.texels;
         figures->charts = bake.charts;
+        figures->max_texel_distance_m = bake.max_texel_distance_m;
         figures->weld_s = weld_s;
         figures->simplify_s = simplify_s;
         figures->bake_s = step.elapsedSeconds();

@@ -24,6 +24,7 @@ struct ParentFigures {
     std::size_t texels = 0;       ///< texels baked
     std::size_t charts = 0;       ///< charts on the parent's page
     double weld_s = 0, simplify_s = 0, bake_s = 0;  ///< wall time of each step
+    double max_texel_distance_m = 0;  ///< BakeFigures::max_texel_distance_m
 };
 
 /// A parent of the quadtree: the children's faces merged, welded by position only (texture

@@ -214,7 +214,7 @@ struct PointBitsHash {
 }  // namespace
 
 double hausdorffBound(const std::vector<Triangle>& a, const TriangleGrid& b, double tolerance_m,
-                      std::size_t* samples) {
+                      std::size_t* samples, double known_m) {
     // Breadth first, in rounds: the triangles of a round are tested against the largest
     // distance found before it (a lower bound of the maximum); those whose bound exceeds it by
     // more than the tolerance are split in four, their new midpoints evaluated in parallel.
@@ -225,9 +225,16 @@ double hausdorffBound(const std::vector<Triangle>& a, const TriangleGrid& b, dou
         std::array<double, 3> d;
         int depth;
     };
+    // The covering radius: every point of the triangle is within it of a corner. Acute: the
+    // circumradius (the circumcentre is the farthest point from the corners); right or obtuse:
+    // half the longest edge bounds it (the corners' disks of that radius cover the triangle).
+    // Both are at most longest edge / sqrt 3.
     auto radius = [](const Triangle& t) {
-        return std::max({(t[1] - t[0]).norm(), (t[2] - t[1]).norm(), (t[0] - t[2]).norm()}) /
-               std::sqrt(3.0);
+        const double a2 = (t[1] - t[0]).squaredNorm(), b2 = (t[2] - t[1]).squaredNorm(), c2 = (t[0] - t[2]).squaredNorm();
+        const double l2 = std::max({a2, b2, c2});
+        const double twice_area = (t[1] - t[0]).cross(t[2] - t[0]).norm();
+        if (2 * l2 >= a2 + b2 + c2 || !(twice_area > 0)) return 0.5 * std::sqrt(l2);
+        return std::min(std::sqrt(a2 * b2 * c2) / (2 * twice_area), std::sqrt(l2 / 3.0));
     };
     // The corners first, each distinct point once (a mesh's corners are shared by ~6 faces).
     std::unordered_map<std::array<std::uint64_t, 3>, std::uint32_t, PointBitsHash> index_of;
@@ -252,7 +259,7 @@ double hausdorffBound(const std::vector<Triangle>& a, const TriangleGrid& b, dou
         active[i] = {a[i], {point_d[c[0]], point_d[c[1]], point_d[c[2]]}, 0};
     }
     std::size_t queries = points.size();
-    double lower = 0.0, upper = 0.0;
+    double lower = std::max(0.0, known_m), upper = 0.0;
     for (const Item& item : active) lower = std::max({lower, item.d[0], item.d[1], item.d[2]});
     std::vector<Item> split;
     while (!active.empty()) {

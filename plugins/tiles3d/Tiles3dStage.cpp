@@ -410,8 +410,10 @@ void Tiles3dStage::finishRun(Context& ctx, const std::vector<FinishedTile>& tile
             step.reset();
             // The measured bound: distance from the parent to its children, plus theirs.
             meshes.clear();
+            // (The bake's largest texel distance is a distance from the parent's surface already
+            // measured: no triangle within it plus the tolerance needs a split.)
             job.d = hausdorffBound(trianglesW(parent), grid, std::max(0.5 * voxel_size_m, 0.25 * job.child_error),
-                                   &job.queries);
+                                   &job.queries, job.pf.max_texel_distance_m);
             job.measure_s = step.elapsedSeconds();
             step.reset();
             job.p.faces = parent.faces();

@@ -235,6 +235,13 @@ TEST_CASE("A parent's corners are its children's; its measured error bounds its 
     CHECK(worst <= bound);
     CHECK(bound < worst + 0.05);  // and not loose
     CHECK(bound > 0);
+    // The bake's texel distances are distances from the parent: below the bound; starting
+    // from the largest, the bound still holds.
+    CHECK(fig.max_texel_distance_m > 0);
+    CHECK(fig.max_texel_distance_m <= bound + 1e-12);
+    const double from_known = hausdorffBound(trianglesW(p), grid, 0.01, nullptr, fig.max_texel_distance_m);
+    CHECK(worst <= from_known);
+    CHECK(from_known < worst + 0.05);
 }
 
 namespace {
