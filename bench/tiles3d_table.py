@@ -32,12 +32,21 @@ def main():
         else:
             writer = st.get("wall_time_s", 0)
         writer += st.get("finish_run_s", 0)
+        # CPU: the leaf writer's thread CPU per tile, the parents' process CPU (finishRun runs
+        # alone), against the run's process CPU: does not grow with the machine's load.
+        if "tiles" in r:
+            writer_cpu = sum(t["stages"].get("export.3dtiles", {}).get("cpu_time_s", 0) for t in r["tiles"].values())
+        else:
+            writer_cpu = st.get("cpu_time_s", 0)
+        writer_cpu += st.get("finish_run_cpu_s", 0)
+        cpu = r["timings"].get("cpu_s", 0)
         faces = st.get("leaf_faces", 0)
         leaf_bytes = st.get("leaf_glb_bytes", 0)
         print(f"== {run}")
         print(f"3D Tiles bytes {t3} (parents {parents}), PLY+OBJ+MTL+PNG bytes {today}, ratio {t3 / today:.3f}")
         print(f"leaf faces {faces}, leaf GLB bytes {leaf_bytes}, bytes/face {leaf_bytes / max(1, faces):.1f}")
-        print(f"run {total:.1f} s, writer {writer:.2f} s = {100 * writer / total:.1f} %")
+        print(f"run {total:.1f} s, writer {writer:.2f} s = {100 * writer / total:.1f} %; "
+              f"CPU: run {cpu:.1f} s, writer {writer_cpu:.2f} s = {100 * writer_cpu / max(cpu, 1e-9):.1f} %")
         lod = st.get("lod_timings_s", {})
         if lod:
             parts = ", ".join(f"{k} {v:.2f}" for k, v in lod.items() if not isinstance(v, list))

@@ -8,6 +8,8 @@
 #include <sstream>
 #include <system_error>
 
+#include <time.h>
+
 #include <nlohmann/json.hpp>
 #include <tbb/parallel_pipeline.h>
 
@@ -31,6 +33,14 @@ using json = nlohmann::json;
 namespace {
 
 constexpr const char* kDir = "3dtiles";
+
+/// CPU time of the calling thread, seconds (the leaf writer runs on one thread; tiles in
+/// flight run on others, so the process's CPU time would count theirs).
+double threadCpuTimeS() {
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
 
 std::string readFile(const fs::path& path, const std::string& who) {
     std::ifstream in(path, std::ios::binary);
@@ -212,6 +222,7 @@ void Tiles3dStage::run(Context& ctx) {
         return;
     }
     Timer timer;
+    const double cpu_start_s = threadCpuTimeS();
     TileMesh mesh = tileMeshFromContext(ctx);
     if (mesh.faces() == 0) fail("the mesh has no faces to export");
     const std::vector<ClassInfo> table = classes(ctx);
@@ -258,6 +269,7 @@ void Tiles3dStage::run(Context& ctx) {
     report.stage(stage, "glb_bytes", glb.size());
     report.stage(stage, "bytes_per_face", double(glb.size()) / double(mesh.faces()));
     report.stage(stage, "atlas_pages", mesh.pages.size());
+    report.stage(stage, "cpu_time_s", threadCpuTimeS() - cpu_start_s);
     logInfo(stage + ": " + std::to_string(mesh.faces()) + " faces, " + std::to_string(glb.size()) +
             " bytes in " + std::to_string(timer.elapsedSeconds()) + " s");
 }
@@ -275,6 +287,7 @@ void Tiles3dStage::finishRun(Context& ctx, const std::vector<FinishedTile>& tile
     if (ctx.process() != 0) return;
     const std::string stage(name());
     Timer timer;
+    const double cpu_start_s = processCpuTimeS();  // only the parents run now
     const fs::path out = ctx.outputDir();
     const fs::path dir = out / kDir;
 
@@ -516,6 +529,7 @@ void Tiles3dStage::finishRun(Context& ctx, const std::vector<FinishedTile>& tile
 
     Report& report = ctx.report();
     report.stage(stage, "finish_run_s", timer.elapsedSeconds());
+    report.stage(stage, "finish_run_cpu_s", processCpuTimeS() - cpu_start_s);
     report.stage(stage, "leaves", leaves.size());
     report.set({"stages", stage, "lod_timings_s", "read_children"}, read_s);
     report.set({"stages", stage, "lod_timings_s", "merge_simplify_bake"}, build_s);
