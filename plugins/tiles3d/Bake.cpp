@@ -119,6 +119,7 @@ void bakeAtlas(TileMesh& target, const std::vector<const TileMesh*>& sources, do
     const int g = std::max(0, gutter_px);
     std::vector<Chart> charts;
     std::vector<std::vector<std::int32_t>> owners;
+    std::vector<std::vector<std::uint8_t>> insides;  // per chart and texel: inside its face
     cv::Size size(0, 0);
     auto layout = [&]() {
         for (int attempt = 0;; ++attempt) {
@@ -158,10 +159,12 @@ void bakeAtlas(TileMesh& target, const std::vector<const TileMesh*>& sources, do
         for (int round = 0;; ++round) {
             layout();
             owners.assign(charts.size(), {});
+            insides.assign(charts.size(), {});
             std::vector<std::vector<std::uint32_t>> overlaps(charts.size());
             tbb::parallel_for(tbb::blocked_range<std::size_t>(0, charts.size(), 16), [&](const auto& range) {
                 for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                    overlaps[i] = rasterizeChart(cornersPx(charts[i]), charts[i].w, charts[i].h, reach_px, owners[i]);
+                    overlaps[i] = rasterizeChart(cornersPx(charts[i]), charts[i].w, charts[i].h, reach_px, owners[i],
+                                                 &insides[i]);
                 }
             });
             if (round > 8 || std::all_of(overlaps.begin(), overlaps.end(), [](const auto& o) { return o.empty(); })) break;
@@ -274,11 +277,10 @@ void bakeAtlas(TileMesh& target, const std::vector<const TileMesh*>& sources, do
                         for (int c = 0; c < ch.w; ++c) {
                             const std::size_t t = std::size_t(r) * std::size_t(ch.w) + std::size_t(c);
                             const std::int32_t j = owner[t];
-                            if (j < 0) continue;
+                            if (j < 0 || (insides[i][t] != 0) != (pass == 0)) continue;
                             const auto& tri = px[static_cast<std::size_t>(j)];
                             const Nearest2 on = nearestOnTriangle2(Eigen::Vector2d(c + 0.5, r + 0.5), tri);
                             const bool inside = on.distance2 == 0;
-                            if (inside != (pass == 0)) continue;
                             if (!inside) {
                                 const Eigen::Vector2d at = on.weights[0] * tri[0] + on.weights[1] * tri[1] + on.weights[2] * tri[2];
                                 const int ac = std::clamp(static_cast<int>(std::floor(at.x())), 0, ch.w - 1);

@@ -181,7 +181,8 @@ Nearest2 nearestOnTriangle2(const Eigen::Vector2d& q, const std::array<Eigen::Ve
 }
 
 std::vector<std::uint32_t> rasterizeChart(const std::vector<std::array<Eigen::Vector2d, 3>>& corners_px, int w,
-                                          int h, double reach_px, std::vector<std::int32_t>& owner) {
+                                          int h, double reach_px, std::vector<std::int32_t>& owner,
+                                          std::vector<std::uint8_t>* inside_out) {
     owner.assign(std::size_t(w) * std::size_t(h), -1);
     std::vector<double> best(owner.size(), std::numeric_limits<double>::infinity());
     std::vector<std::int32_t> inside(owner.size(), -1);  // the first face strictly inside
@@ -230,11 +231,17 @@ std::vector<std::uint32_t> rasterizeChart(const std::vector<std::array<Eigen::Ve
     }
     for (std::size_t j = 0; j < corners_px.size(); ++j) {
         const auto& t = corners_px[j];
+        const Eigen::Vector2d lo = t[0].cwiseMin(t[1]).cwiseMin(t[2]), hi = t[0].cwiseMax(t[1]).cwiseMax(t[2]);
         texelRange(t, reach_px, c0, c1, r0, r1);
         for (int r = r0; r <= r1; ++r) {
+            const double dy = std::max({lo.y() - (r + 0.5), 0.0, (r + 0.5) - hi.y()});
             for (int c = c0; c <= c1; ++c) {
                 const std::size_t i = std::size_t(r) * std::size_t(w) + std::size_t(c);
                 if (best[i] == 0) continue;
+                // The face's box is no nearer than the face: skip what it cannot win.
+                const double dx = std::max({lo.x() - (c + 0.5), 0.0, (c + 0.5) - hi.x()});
+                const double box2 = dx * dx + dy * dy;
+                if (box2 > reach2 || box2 >= best[i]) continue;
                 const double d2 = nearestOnTriangle2(Eigen::Vector2d(c + 0.5, r + 0.5), t).distance2;
                 if (d2 <= reach2 && d2 < best[i]) {
                     best[i] = d2;
@@ -242,6 +249,10 @@ std::vector<std::uint32_t> rasterizeChart(const std::vector<std::array<Eigen::Ve
                 }
             }
         }
+    }
+    if (inside_out) {
+        inside_out->resize(owner.size());
+        for (std::size_t i = 0; i < owner.size(); ++i) (*inside_out)[i] = best[i] == 0 ? 1 : 0;
     }
     std::vector<std::uint32_t> out;
     for (std::size_t j = 0; j < overlapping.size(); ++j) {

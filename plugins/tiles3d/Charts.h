@@ -55,7 +55,9 @@ Nearest2 nearestOnTriangle2(const Eigen::Vector2d& q, const std::array<Eigen::Ve
 /// has its centre at (c + 0.5, r + 0.5)). Returns the faces (indices into corners_px, in
 /// increasing order) of every pair whose insides both hold a texel centre: empty unless the
 /// projection overlaps itself.
+/// `inside` (if given) gets 1 for the texels whose centre lies in (or on) their face.
 std::vector<std::uint32_t> rasterizeChart(const std::vector<std::array<Eigen::Vector2d, 3>>& corners_px, int w,
-                                          int h, double reach_px, std::vector<std::int32_t>& owner);
+                                          int h, double reach_px, std::vector<std::int32_t>& owner,
+                                          std::vector<std::uint8_t>* inside = nullptr);
 
 }  // namespace vdbmap::tiles3d
