@@ -4,7 +4,7 @@
 # `vdbmap-sim street --frames 20 --seed 1`) untiled with JPEG and with PNG atlases, and with
 # 16 m tiles; for each: bytes of the 3D Tiles output against today's PLY + OBJ + MTL + PNG,
 # bytes per face, the writer's share of the run time, faces and geometricError per level.
-# Usage: bench/tiles3d.sh [BUILD_DIR] [WORK_DIR]
+# Usage: bench/tiles3d.sh [BUILD_DIR] [WORK_DIR] [RUN...]   (RUN: jpeg png tiled16; default all)
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${1:-$root/build}
@@ -21,7 +21,14 @@ run() {  # name config extra-args...
     rm -rf "$work/$name"
     "$build/bin/vdbmap" run "$config" -o "$work/$name" --quiet --set dataset.path="$seq" "$@"
 }
-run jpeg "$cfg"
-run png "$cfg" --set export.3dtiles.image_format=png
-run tiled16 "$tiled_cfg"
-python3 "$root/bench/tiles3d_table.py" "$work/jpeg" "$work/png" "$work/tiled16"
+runs=("${@:3}")
+[ ${#runs[@]} -gt 0 ] || runs=(jpeg png tiled16)
+for r in "${runs[@]}"; do
+    case $r in
+        jpeg) run jpeg "$cfg" ;;
+        png) run png "$cfg" --set export.3dtiles.image_format=png ;;
+        tiled16) run tiled16 "$tiled_cfg" ;;
+        *) echo "unknown run '$r' (jpeg, png, tiled16)" >&2; exit 2 ;;
+    esac
+done
+python3 "$root/bench/tiles3d_table.py" "${runs[@]/#/$work/}"

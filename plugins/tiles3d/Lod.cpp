@@ -5,13 +5,25 @@
 #include <cmath>
 #include <array>
 #include <cstdint>
-#include <map>
+#include <unordered_map>
 
 #include <meshoptimizer.h>
 
 #include "Bake.h"
+#include "vdbmap/core/Timer.h"
 
 namespace vdbmap::tiles3d {
+namespace {
+
+struct PositionKeyHash {
+    std::size_t operator()(const std::array<std::int64_t, 3>& k) const {
+        std::uint64_t h = 1469598103934665603ull;
+        for (const std::int64_t v : k) h = (h ^ static_cast<std::uint64_t>(v)) * 1099511628211ull;
+        return static_cast<std::size_t>(h ^ (h >> 29));
+    }
+};
+
+}  // namespace
 
 std::vector<std::array<Eigen::Vector3d, 3>> trianglesW(const TileMesh& mesh) {
     std::vector<std::array<Eigen::Vector3d, 3>> t(mesh.faces());
@@ -22,7 +34,8 @@ std::vector<std::array<Eigen::Vector3d, 3>> trianglesW(const TileMesh& mesh) {
 }
 
 TileMesh buildParent(const std::vector<const TileMesh*>& children, const ParentOptions& options,
-                     ParentFigures* figures) {
+                     ParentFigures* figures, const TriangleGrid* children_grid) {
+    Timer step;
     TileMesh parent;
     Bounds bounds;
     for (const TileMesh* c : children) bounds.add(boundsW(*c));
@@ -31,7 +44,11 @@ TileMesh buildParent(const std::vector<const TileMesh*>& children, const ParentO
 
     // Weld by position only: texture seams and class borders are no borders for the
     // simplification (the parent gets its own atlas and classes below).
-    std::map<std::array<std::int64_t, 3>, std::uint32_t> index_of;
+    // (Vertex ids in order of first appearance: the hash map only answers lookups.)
+    std::unordered_map<std::array<std::int64_t, 3>, std::uint32_t, PositionKeyHash> index_of;
+    std::size_t corner_count = 0;
+    for (const TileMesh* c : children) corner_count += 3 * c->faces();
+    index_of.reserve(corner_count / 2);
     std::vector<float> positions;
     std::vector<std::uint32_t> indices;
     std::size_t merged = 0;
@@ -65,6 +82,8 @@ TileMesh buildParent(const std::vector<const TileMesh*>& children, const ParentO
     }
     index_of.clear();
     const std::size_t vertex_count = positions.size() / 3;
+    const double weld_s = step.elapsedSeconds();
+    step.reset();
 
     // A quarter of the faces, at most voxel_size_m * 2^level of error. No LockBorder: it would
     // lock every open border of the mesh too (meshoptimizer 0.18 cannot lock a chosen subset),
@@ -92,16 +111,24 @@ TileMesh buildParent(const std::vector<const TileMesh*>& children, const ParentO
         }
     }
 
+    const double simplify_s = step.elapsedSeconds();
+    step.reset();
+
     // A fresh atlas at twice the children's texel size, baked from them.
     const double child_texel_m = area_px > 0 ? std::sqrt(area_m2 / area_px) : 0.0;
     BakeFigures bake;
-    bakeAtlas(parent, children, 2.0 * child_texel_m, options.max_atlas_px, options.gutter_px, &bake);
+    bakeAtlas(parent, children, 2.0 * child_texel_m, options.max_atlas_px, options.gutter_px, &bake, children_grid);
     if (figures) {
         figures->merged_faces = merged;
         figures->faces = n;
         figures->child_texel_m = child_texel_m;
         figures->texel_m = bake.texel_m;
         figures->texels = bake.texels;
+        figures->charts = bake.charts;
+        figures->max_texel_distance_m = bake.max_texel_distance_m;
+        figures->weld_s = weld_s;
+        figures->simplify_s = simplify_s;
+        figures->bake_s = step.elapsedSeconds();
     }
     return parent;
 }

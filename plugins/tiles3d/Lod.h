@@ -3,6 +3,7 @@
 
 #include <vector>
 
+#include "MeshDistance.h"
 #include "TileMesh.h"
 
 namespace vdbmap::tiles3d {
@@ -21,6 +22,9 @@ struct ParentFigures {
     double child_texel_m = 0;     ///< the children's texel size (metres per texel)
     double texel_m = 0;           ///< the parent's (2 x the children's, more if the page was full)
     std::size_t texels = 0;       ///< texels baked
+    std::size_t charts = 0;       ///< charts on the parent's page
+    double weld_s = 0, simplify_s = 0, bake_s = 0;  ///< wall time of each step
+    double max_texel_distance_m = 0;  ///< BakeFigures::max_texel_distance_m
 };
 
 /// A parent of the quadtree: the children's faces merged, welded by position only (texture
@@ -30,8 +34,9 @@ struct ParentFigures {
 /// baked from the children's surface and pages, and each face's class and confidence from the
 /// children's faces nearest to it (bakeAtlas). Every corner of the result is a corner of a
 /// child.
+/// `children_grid`, if given, holds the children's faces in W in order (bakeAtlas).
 TileMesh buildParent(const std::vector<const TileMesh*>& children, const ParentOptions& options,
-                     ParentFigures* figures = nullptr);
+                     ParentFigures* figures = nullptr, const TriangleGrid* children_grid = nullptr);
 
 /// The faces as triangles in W.
 std::vector<std::array<Eigen::Vector3d, 3>> trianglesW(const TileMesh& mesh);

@@ -3,7 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
+#include <unordered_map>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -98,10 +100,12 @@ TriangleGrid::TriangleGrid(std::vector<Triangle> triangles) : triangles_(std::mo
         lo_[i] = t[0].cwiseMin(t[1]).cwiseMin(t[2]);
         hi_[i] = t[0].cwiseMax(t[1]).cwiseMax(t[2]);
     }
-    // About one triangle edge per cell, but at most ~4 M cells.
+    // About one triangle edge per cell, but at most ~32 M cells (128 MB of cell starts: a
+    // 128 m x 128 m x 20 m parent of the 1.6 km drive gets 0.225 m cells, ~10 triangles each;
+    // with 4 M cells it got 0.51 m, ~50 triangles to test per query).
     const Eigen::Vector3d extent = (hi - lo).cwiseMax(1e-6);
     cell_ = std::max(mean_edge, 1e-3);
-    while ((extent / cell_).array().ceil().prod() > 4e6) cell_ *= 1.5;
+    while ((extent / cell_).array().ceil().prod() > 32e6) cell_ *= 1.5;
     origin_ = lo;
     dims_ = ((extent / cell_).array().floor().cast<int>() + 1).matrix();
     const std::size_t cells = static_cast<std::size_t>(dims_.x()) * dims_.y() * dims_.z();
@@ -188,8 +192,29 @@ int TriangleGrid::nearest(const Eigen::Vector3d& p, Eigen::Vector3d& nearest, in
     return best;
 }
 
+namespace {
+
+std::array<std::uint64_t, 3> pointBits(const Eigen::Vector3d& p) {
+    std::array<std::uint64_t, 3> k;
+    for (int i = 0; i < 3; ++i) {
+        const double v = p[i] == 0.0 ? 0.0 : p[i];  // -0 and +0 are one point
+        std::memcpy(&k[static_cast<std::size_t>(i)], &v, sizeof v);
+    }
+    return k;
+}
+
+struct PointBitsHash {
+    std::size_t operator()(const std::array<std::uint64_t, 3>& k) const {
+        std::uint64_t h = 1469598103934665603ull;
+        for (const std::uint64_t v : k) h = (h ^ v ^ (v >> 32)) * 1099511628211ull;
+        return static_cast<std::size_t>(h ^ (h >> 29));
+    }
+};
+
+}  // namespace
+
 double hausdorffBound(const std::vector<Triangle>& a, const TriangleGrid& b, double tolerance_m,
-                      std::size_t* samples) {
+                      std::size_t* samples, double known_m) {
     // Breadth first, in rounds: the triangles of a round are tested against the largest
     // distance found before it (a lower bound of the maximum); those whose bound exceeds it by
     // more than the tolerance are split in four, their new midpoints evaluated in parallel.
@@ -200,18 +225,41 @@ double hausdorffBound(const std::vector<Triangle>& a, const TriangleGrid& b, dou
         std::array<double, 3> d;
         int depth;
     };
+    // The covering radius: every point of the triangle is within it of a corner. Acute: the
+    // circumradius (the circumcentre is the farthest point from the corners); right or obtuse:
+    // half the longest edge bounds it (the corners' disks of that radius cover the triangle).
+    // Both are at most longest edge / sqrt 3.
     auto radius = [](const Triangle& t) {
-        return std::max({(t[1] - t[0]).norm(), (t[2] - t[1]).norm(), (t[0] - t[2]).norm()}) /
-               std::sqrt(3.0);
+        const double a2 = (t[1] - t[0]).squaredNorm(), b2 = (t[2] - t[1]).squaredNorm(), c2 = (t[0] - t[2]).squaredNorm();
+        const double l2 = std::max({a2, b2, c2});
+        const double twice_area = (t[1] - t[0]).cross(t[2] - t[0]).norm();
+        if (2 * l2 >= a2 + b2 + c2 || !(twice_area > 0)) return 0.5 * std::sqrt(l2);
+        return std::min(std::sqrt(a2 * b2 * c2) / (2 * twice_area), std::sqrt(l2 / 3.0));
     };
-    std::vector<Item> active(a.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, a.size(), 256), [&](const auto& r) {
-        for (std::size_t i = r.begin(); i != r.end(); ++i) {
-            active[i] = {a[i], {b.distance(a[i][0]), b.distance(a[i][1]), b.distance(a[i][2])}, 0};
+    // The corners first, each distinct point once (a mesh's corners are shared by ~6 faces).
+    std::unordered_map<std::array<std::uint64_t, 3>, std::uint32_t, PointBitsHash> index_of;
+    index_of.reserve(a.size() * 2);
+    std::vector<Eigen::Vector3d> points;
+    std::vector<std::array<std::uint32_t, 3>> corner_index(a.size());
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        for (std::size_t k = 0; k < 3; ++k) {
+            const auto it = index_of.emplace(pointBits(a[i][k]), static_cast<std::uint32_t>(points.size()));
+            if (it.second) points.push_back(a[i][k]);
+            corner_index[i][k] = it.first->second;
         }
+    }
+    index_of.clear();
+    std::vector<double> point_d(points.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 256), [&](const auto& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) point_d[i] = b.distance(points[i]);
     });
-    std::size_t queries = 3 * a.size();
-    double lower = 0.0, upper = 0.0;
+    std::vector<Item> active(a.size());
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        const auto& c = corner_index[i];
+        active[i] = {a[i], {point_d[c[0]], point_d[c[1]], point_d[c[2]]}, 0};
+    }
+    std::size_t queries = points.size();
+    double lower = std::max(0.0, known_m), upper = 0.0;
     for (const Item& item : active) lower = std::max({lower, item.d[0], item.d[1], item.d[2]});
     std::vector<Item> split;
     while (!active.empty()) {
@@ -224,22 +272,38 @@ double hausdorffBound(const std::vector<Triangle>& a, const TriangleGrid& b, dou
                 split.push_back(item);
             }
         }
-        std::vector<Item> next(4 * split.size());
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, split.size(), 64), [&](const auto& r) {
-            for (std::size_t i = r.begin(); i != r.end(); ++i) {
-                const Item& item = split[i];
-                const Eigen::Vector3d m01 = 0.5 * (item.t[0] + item.t[1]);
-                const Eigen::Vector3d m12 = 0.5 * (item.t[1] + item.t[2]);
-                const Eigen::Vector3d m20 = 0.5 * (item.t[2] + item.t[0]);
-                const double d01 = b.distance(m01), d12 = b.distance(m12), d20 = b.distance(m20);
-                const int depth = item.depth + 1;
-                next[4 * i] = {{item.t[0], m01, m20}, {item.d[0], d01, d20}, depth};
-                next[4 * i + 1] = {{m01, item.t[1], m12}, {d01, item.d[1], d12}, depth};
-                next[4 * i + 2] = {{m20, m12, item.t[2]}, {d20, d12, item.d[2]}, depth};
-                next[4 * i + 3] = {{m01, m12, m20}, {d01, d12, d20}, depth};
+        // The new midpoints, each distinct point once (neighbours split in the same round
+        // share an edge's midpoint: 0.5 (a + b) is the same double either way).
+        std::vector<std::array<std::uint32_t, 3>> mid_index(split.size());
+        points.clear();
+        for (std::size_t i = 0; i < split.size(); ++i) {
+            const Triangle& t = split[i].t;
+            for (std::size_t k = 0; k < 3; ++k) {
+                const Eigen::Vector3d m = 0.5 * (t[k] + t[(k + 1) % 3]);
+                const auto it = index_of.emplace(pointBits(m), static_cast<std::uint32_t>(points.size()));
+                if (it.second) points.push_back(m);
+                mid_index[i][k] = it.first->second;
             }
+        }
+        index_of.clear();
+        point_d.resize(points.size());
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 256), [&](const auto& r) {
+            for (std::size_t i = r.begin(); i != r.end(); ++i) point_d[i] = b.distance(points[i]);
         });
-        queries += 3 * split.size();
+        queries += points.size();
+        std::vector<Item> next(4 * split.size());
+        for (std::size_t i = 0; i < split.size(); ++i) {
+            const Item& item = split[i];
+            const Eigen::Vector3d& m01 = points[mid_index[i][0]];
+            const Eigen::Vector3d& m12 = points[mid_index[i][1]];
+            const Eigen::Vector3d& m20 = points[mid_index[i][2]];
+            const double d01 = point_d[mid_index[i][0]], d12 = point_d[mid_index[i][1]], d20 = point_d[mid_index[i][2]];
+            const int depth = item.depth + 1;
+            next[4 * i] = {{item.t[0], m01, m20}, {item.d[0], d01, d20}, depth};
+            next[4 * i + 1] = {{m01, item.t[1], m12}, {d01, item.d[1], d12}, depth};
+            next[4 * i + 2] = {{m20, m12, item.t[2]}, {d20, d12, item.d[2]}, depth};
+            next[4 * i + 3] = {{m01, m12, m20}, {d01, d12, d20}, depth};
+        }
         for (const Item& item : next) lower = std::max({lower, item.d[0], item.d[1], item.d[2]});
         active.swap(next);
     }

@@ -49,11 +49,14 @@ Eigen::Vector3d barycentric(const Eigen::Vector3d& q, const Triangle& t);
 /// An upper bound on the one-sided Hausdorff distance max_{a in A} min_{b in B} |a - b| from
 /// the surface of `a` to the surface of `b`, within `tolerance_m` of the true value:
 /// distance-to-B is 1-Lipschitz, so over a triangle it is at most its largest corner value plus
-/// the triangle's covering radius (<= longest edge / sqrt 3); triangles whose bound exceeds the
+/// the triangle's covering radius (acute: its circumradius; else half its longest edge; both
+/// <= longest edge / sqrt 3); triangles whose bound exceeds the
 /// largest distance found so far by more than the tolerance are split in four (branch and
 /// bound, breadth first in rounds). Parallel (TBB) and independent of the thread count. `samples` (if
 /// given) receives the number of distance queries.
+/// `known_m`: a distance from a point of `a` to `b` the caller has measured already (a lower
+/// bound of the maximum: triangles within it plus the tolerance need no split); 0 = none.
 double hausdorffBound(const std::vector<Triangle>& a, const TriangleGrid& b, double tolerance_m,
-                      std::size_t* samples = nullptr);
+                      std::size_t* samples = nullptr, double known_m = 0.0);
 
 }  // namespace vdbmap::tiles3d

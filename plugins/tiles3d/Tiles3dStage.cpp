@@ -8,7 +8,10 @@
 #include <sstream>
 #include <system_error>
 
+#include <time.h>
+
 #include <nlohmann/json.hpp>
+#include <tbb/parallel_pipeline.h>
 
 #include "Lod.h"
 #include "MeshDistance.h"
@@ -30,6 +33,14 @@ using json = nlohmann::json;
 namespace {
 
 constexpr const char* kDir = "3dtiles";
+
+/// CPU time of the calling thread, seconds (the leaf writer runs on one thread; tiles in
+/// flight run on others, so the process's CPU time would count theirs).
+double threadCpuTimeS() {
+    timespec t{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
 
 std::string readFile(const fs::path& path, const std::string& who) {
     std::ifstream in(path, std::ios::binary);
@@ -125,6 +136,9 @@ void Tiles3dStage::declareOptions(OptionSpec& spec) {
              "for the whole drive, 0 = leaves only (their parents have no content)",
              lod_levels_, -1);
     spec.add("lod_atlas_max_px", "Largest atlas page side of a parent", lod_atlas_max_px_, 4096, "px");
+    spec.add("lod_parents_in_flight",
+             "Parents of a level built at once (each is parallel inside; memory grows with it), >= 1",
+             lod_parents_in_flight_, 2);
     spec.add("labels_file",
              "Label set 'id, name, r g b' for the class table ('' = the dataset's or the "
              "docs/DATA.md default; use the same as semantic.mrf)",
@@ -159,6 +173,9 @@ void Tiles3dStage::initialize() {
         failConfig("option 'compression' must be 'meshopt' or 'none', got '" + compression_ + "'");
     }
     if (lod_levels_ < -1) failConfig("option 'lod_levels' must be >= -1, got " + std::to_string(lod_levels_));
+    if (lod_parents_in_flight_ < 1) {
+        failConfig("option 'lod_parents_in_flight' must be >= 1, got " + std::to_string(lod_parents_in_flight_));
+    }
     if (lod_atlas_max_px_ < 64 || lod_atlas_max_px_ > 16384) {
         failConfig("option 'lod_atlas_max_px' must be in [64, 16384], got " + std::to_string(lod_atlas_max_px_));
     }
@@ -205,6 +222,7 @@ void Tiles3dStage::run(Context& ctx) {
         return;
     }
     Timer timer;
+    const double cpu_start_s = threadCpuTimeS();
     TileMesh mesh = tileMeshFromContext(ctx);
     if (mesh.faces() == 0) fail("the mesh has no faces to export");
     const std::vector<ClassInfo> table = classes(ctx);
@@ -251,6 +269,7 @@ void Tiles3dStage::run(Context& ctx) {
     report.stage(stage, "glb_bytes", glb.size());
     report.stage(stage, "bytes_per_face", double(glb.size()) / double(mesh.faces()));
     report.stage(stage, "atlas_pages", mesh.pages.size());
+    report.stage(stage, "cpu_time_s", threadCpuTimeS() - cpu_start_s);
     logInfo(stage + ": " + std::to_string(mesh.faces()) + " faces, " + std::to_string(glb.size()) +
             " bytes in " + std::to_string(timer.elapsedSeconds()) + " s");
 }
@@ -268,6 +287,7 @@ void Tiles3dStage::finishRun(Context& ctx, const std::vector<FinishedTile>& tile
     if (ctx.process() != 0) return;
     const std::string stage(name());
     Timer timer;
+    const double cpu_start_s = processCpuTimeS();  // only the parents run now
     const fs::path out = ctx.outputDir();
     const fs::path dir = out / kDir;
 
@@ -332,8 +352,9 @@ void Tiles3dStage::finishRun(Context& ctx, const std::vector<FinishedTile>& tile
     levels.push_back({{"level", 0}, {"tiles", level.size()}, {"faces", leaf_faces},
                       {"geometric_error_m", 0.0}});
     int depth = 0;
-    double read_s = 0, build_s = 0, measure_s = 0, write_s = 0;
+    double read_s = 0, build_s = 0, measure_s = 0, write_s = 0, weld_s = 0, simplify_s = 0, bake_s = 0;
     std::size_t distance_queries = 0;
+    json level_times_s = json::array();  // the report's only: the tileset does not depend on time
     while (level.size() > 1) {
         ++depth;
         std::map<std::pair<int, int>, std::vector<Node>> groups;
@@ -342,82 +363,127 @@ void Tiles3dStage::finishRun(Context& ctx, const std::vector<FinishedTile>& tile
         const bool content = lod_levels_ < 0 || depth <= lod_levels_;
         std::size_t faces = 0;
         double max_error = 0, level_texel_m = 0;
-        std::size_t level_texels = 0;
-        for (auto& [key, children] : groups) {
+        std::size_t level_texels = 0, level_charts = 0;
+        Timer level_timer;
+        // Each parent's content (read, merge, simplify, bake, measure, write) is independent of
+        // the others': up to lod_parents_in_flight of them at once, each parallel inside.
+        struct Job {
             Node p;
+            std::vector<Node> children;
+            double child_error = 0;
+            std::string file_name;
+            bool build = false;
+            ParentFigures pf;
+            double d = 0, read_s = 0, build_s = 0, measure_s = 0, write_s = 0;
+            std::size_t queries = 0;
+        };
+        std::vector<Job> jobs;
+        for (auto& [key, children] : groups) {
+            Job job;
+            Node& p = job.p;
             p.ky = key.first;
             p.kx = key.second;
             p.tile.level = depth;
-            double child_error = 0;
             for (const Node& c : children) {
                 p.tile.box_W.add(c.tile.box_W);
-                child_error = std::max(child_error, c.tile.geometric_error_m);
+                job.child_error = std::max(job.child_error, c.tile.geometric_error_m);
             }
-            const std::string file_name = std::to_string(depth) + "_" + std::to_string(p.kx) + "_" +
-                                          std::to_string(p.ky) + ".glb";
-            if (content && std::all_of(children.begin(), children.end(), [](const Node& c) { return !c.glb.empty(); })) {
-                Timer step;
-                std::vector<TileMesh> meshes;
-                for (const Node& c : children) {
-                    try {
-                        meshes.push_back(readGlb(readFile(out / c.glb, stage), (out / c.glb).string()));
-                    } catch (const std::exception& e) {
-                        fail(std::string("level ") + std::to_string(depth) + " parent " + file_name + ": " + e.what());
-                    }
-                }
-                std::vector<const TileMesh*> ptrs;
-                for (const TileMesh& m : meshes) ptrs.push_back(&m);
-                ParentOptions po;
-                po.level = depth;
-                po.voxel_size_m = voxel_size_m;
-                po.max_atlas_px = lod_atlas_max_px_;
-                read_s += step.elapsedSeconds();
-                step.reset();
-                ParentFigures pf;
-                TileMesh parent = buildParent(ptrs, po, &pf);
-                level_texel_m = std::max(level_texel_m, pf.texel_m);
-                level_texels += pf.texels;
-                build_s += step.elapsedSeconds();
-                step.reset();
-                // The measured bound: distance from the parent to its children, plus theirs.
-                std::vector<Triangle> reference;
-                for (const TileMesh& m : meshes) {
-                    for (const auto& t : trianglesW(m)) reference.push_back(t);
-                }
-                meshes.clear();
-                const TriangleGrid grid(std::move(reference));
-                std::size_t queries = 0;
-                const double d = hausdorffBound(trianglesW(parent), grid,
-                                                std::max(0.5 * voxel_size_m, 0.25 * child_error), &queries);
-                distance_queries += queries;
-                measure_s += step.elapsedSeconds();
-                step.reset();
-                p.tile.geometric_error_m = child_error + std::max(d, 1e-3);
-                p.faces = parent.faces();
-                const fs::path rel = fs::path(kDir) / "lod" / file_name;
-                std::string glb;
+            job.file_name = std::to_string(depth) + "_" + std::to_string(p.kx) + "_" + std::to_string(p.ky) + ".glb";
+            job.build = content && std::all_of(children.begin(), children.end(), [](const Node& c) { return !c.glb.empty(); });
+            job.children = std::move(children);
+            jobs.push_back(std::move(job));
+        }
+        auto buildJob = [&](Job& job) {
+            Timer step;
+            std::vector<TileMesh> meshes;
+            for (const Node& c : job.children) {
                 try {
-                    glb = writeGlb(parent, table, glb_options);
+                    meshes.push_back(readGlb(readFile(out / c.glb, stage), (out / c.glb).string()));
                 } catch (const std::exception& e) {
-                    fail(rel.string() + ": " + e.what());
+                    fail(std::string("level ") + std::to_string(depth) + " parent " + job.file_name + ": " + e.what());
                 }
-                writeFileAtomically(out / rel, glb);
-                write_s += step.elapsedSeconds();
-                p.glb = rel.generic_string();
-                p.tile.content_uri = "lod/" + file_name;
+            }
+            std::vector<const TileMesh*> ptrs;
+            for (const TileMesh& m : meshes) ptrs.push_back(&m);
+            ParentOptions po;
+            po.level = depth;
+            po.voxel_size_m = voxel_size_m;
+            po.max_atlas_px = lod_atlas_max_px_;
+            // The children's faces in W, in order: the bake's nearest points and the measured
+            // bound both search them.
+            std::vector<Triangle> reference;
+            for (const TileMesh& m : meshes) {
+                for (const auto& t : trianglesW(m)) reference.push_back(t);
+            }
+            const TriangleGrid grid(std::move(reference));
+            job.read_s = step.elapsedSeconds();
+            step.reset();
+            TileMesh parent = buildParent(ptrs, po, &job.pf, &grid);
+            job.build_s = step.elapsedSeconds();
+            step.reset();
+            // The measured bound: distance from the parent to its children, plus theirs.
+            meshes.clear();
+            // (The bake's largest texel distance is a distance from the parent's surface already
+            // measured: no triangle within it plus the tolerance needs a split.)
+            job.d = hausdorffBound(trianglesW(parent), grid, std::max(0.5 * voxel_size_m, 0.25 * job.child_error),
+                                   &job.queries, job.pf.max_texel_distance_m);
+            job.measure_s = step.elapsedSeconds();
+            step.reset();
+            job.p.faces = parent.faces();
+            const fs::path rel = fs::path(kDir) / "lod" / job.file_name;
+            std::string glb;
+            try {
+                glb = writeGlb(parent, table, glb_options);
+            } catch (const std::exception& e) {
+                fail(rel.string() + ": " + e.what());
+            }
+            writeFileAtomically(out / rel, glb);
+            job.write_s = step.elapsedSeconds();
+        };
+        std::size_t next_job = 0;
+        tbb::parallel_pipeline(
+            static_cast<std::size_t>(lod_parents_in_flight_),
+            tbb::make_filter<void, Job*>(tbb::filter_mode::serial_in_order,
+                                         [&](tbb::flow_control& fc) -> Job* {
+                                             while (next_job < jobs.size() && !jobs[next_job].build) ++next_job;
+                                             if (next_job == jobs.size()) {
+                                                 fc.stop();
+                                                 return nullptr;
+                                             }
+                                             return &jobs[next_job++];
+                                         }) &
+                tbb::make_filter<Job*, void>(tbb::filter_mode::parallel, [&](Job* job) { buildJob(*job); }));
+        for (Job& job : jobs) {
+            Node& p = job.p;
+            if (job.build) {
+                level_texel_m = std::max(level_texel_m, job.pf.texel_m);
+                level_texels += job.pf.texels;
+                level_charts += job.pf.charts;
+                read_s += job.read_s;
+                build_s += job.build_s;
+                weld_s += job.pf.weld_s;
+                simplify_s += job.pf.simplify_s;
+                bake_s += job.pf.bake_s;
+                measure_s += job.measure_s;
+                write_s += job.write_s;
+                distance_queries += job.queries;
+                p.tile.geometric_error_m = job.child_error + std::max(job.d, 1e-3);
+                p.glb = (fs::path(kDir) / "lod" / job.file_name).generic_string();
+                p.tile.content_uri = "lod/" + job.file_name;
                 faces += p.faces;
             } else {
                 // No content: showing nothing is at most the box's diagonal wrong.
-                p.tile.geometric_error_m = std::max(child_error * 2.0 + 1e-3,
+                p.tile.geometric_error_m = std::max(job.child_error * 2.0 + 1e-3,
                                                     (p.tile.box_W.max_W - p.tile.box_W.min_W).norm());
             }
             max_error = std::max(max_error, p.tile.geometric_error_m);
-            for (Node& c : children) p.tile.children.push_back(std::move(c.tile));
+            for (Node& c : job.children) p.tile.children.push_back(std::move(c.tile));
             next.push_back(std::move(p));
         }
         levels.push_back({{"level", depth}, {"tiles", next.size()}, {"faces", faces},
                           {"geometric_error_m", max_error}, {"content", content},
-                          {"texel_m", level_texel_m}, {"texels", level_texels}});
+                          {"texel_m", level_texel_m}, {"texels", level_texels}, {"charts", level_charts}});
+        level_times_s.push_back(level_timer.elapsedSeconds());
         level = std::move(next);
     }
 
@@ -463,11 +529,16 @@ void Tiles3dStage::finishRun(Context& ctx, const std::vector<FinishedTile>& tile
 
     Report& report = ctx.report();
     report.stage(stage, "finish_run_s", timer.elapsedSeconds());
+    report.stage(stage, "finish_run_cpu_s", processCpuTimeS() - cpu_start_s);
     report.stage(stage, "leaves", leaves.size());
     report.set({"stages", stage, "lod_timings_s", "read_children"}, read_s);
     report.set({"stages", stage, "lod_timings_s", "merge_simplify_bake"}, build_s);
+    report.set({"stages", stage, "lod_timings_s", "weld"}, weld_s);
+    report.set({"stages", stage, "lod_timings_s", "simplify"}, simplify_s);
+    report.set({"stages", stage, "lod_timings_s", "bake"}, bake_s);
     report.set({"stages", stage, "lod_timings_s", "measure_error"}, measure_s);
     report.set({"stages", stage, "lod_timings_s", "encode_write"}, write_s);
+    report.setJson({"stages", stage, "lod_timings_s", "levels"}, level_times_s.dump());
     report.stage(stage, "lod_distance_queries", distance_queries);
     report.stage(stage, "leaf_faces", leaf_faces);
     report.stage(stage, "leaf_glb_bytes", leaf_bytes);

@@ -38,6 +38,7 @@ private:
     std::string compression_ = "meshopt";
     int lod_levels_ = -1;
     int lod_atlas_max_px_ = 4096;
+    int lod_parents_in_flight_ = 2;
     std::string labels_file_;
     bool georef_ = false;
     double latitude_deg_ = 0, longitude_deg_ = 0, altitude_m_ = 0, heading_deg_ = 0;

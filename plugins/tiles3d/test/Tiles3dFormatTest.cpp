@@ -4,7 +4,9 @@
 // point of W lands where it belongs through glTF's y-up and the tileset's z-up (the 3D Tiles
 // rule, applied here independently of the reader); a parent's corners are its children's, and
 // its measured error bounds its distance to the full mesh (dense brute-force oracle); the
-// geo-reference puts W's origin on the WGS84 ellipsoid.
+// geo-reference puts W's origin on the WGS84 ellipsoid; the bake's charts partition the faces
+// (a box is its six sides), its rasterization finds overlaps, and its page costs about the
+// surface's texels, the same bytes for any thread count.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -14,7 +16,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include <tbb/task_arena.h>
+
 #include "Bake.h"
+#include "Charts.h"
 #include "Glb.h"
 #include "Lod.h"
 #include "MeshDistance.h"
@@ -230,6 +235,13 @@ TEST_CASE("A parent's corners are its children's; its measured error bounds its 
     CHECK(worst <= bound);
     CHECK(bound < worst + 0.05);  // and not loose
     CHECK(bound > 0);
+    // The bake's texel distances are distances from the parent: below the bound; starting
+    // from the largest, the bound still holds.
+    CHECK(fig.max_texel_distance_m > 0);
+    CHECK(fig.max_texel_distance_m <= bound + 1e-12);
+    const double from_known = hausdorffBound(trianglesW(p), grid, 0.01, nullptr, fig.max_texel_distance_m);
+    CHECK(worst <= from_known);
+    CHECK(from_known < worst + 0.05);
 }
 
 namespace {
@@ -287,6 +299,13 @@ TEST_CASE("A parent's texture is baked from its children's at half the resolutio
     CHECK(fig.child_texel_m == Approx(4.0 / 256).epsilon(0.01));
     CHECK(fig.texel_m == Approx(2 * fig.child_texel_m).epsilon(0.01));
     REQUIRE(p.pages.size() == 1);
+    // The charts cover the plane with its texels and their margins: an 8 x 4 m plane at
+    // texel_m is 32 / texel_m^2 texels (one rectangle per face took about 8x that).
+    const double surface_texels = 32.0 / (fig.texel_m * fig.texel_m);
+    INFO("charts " << fig.charts << ", texels " << fig.texels << ", surface texels " << surface_texels);
+    CHECK(double(fig.texels) <= 1.3 * surface_texels);
+    CHECK(double(fig.texels) >= surface_texels);
+    CHECK(texelSizeM(p) == Approx(fig.texel_m).epsilon(0.01));
     GlbOptions jpeg;  // and through the GLB, as JPEG (quality 90)
     const TileMesh back = readGlb(writeGlb(p, classTable(), jpeg), "parent.glb");
     REQUIRE(back.faces() == p.faces());
@@ -372,4 +391,115 @@ TEST_CASE("The grid's nearest triangle is the brute-force one, whatever the hint
             CHECK((p - q).norm() == Approx(best).margin(1e-12));
         }
     }
+}
+
+namespace {
+
+/// The surface of the box [0, 2] x [0, 1] x [0, 1] in a `step` grid of triangles per side,
+/// corners computed once per grid point (welded: equal floats on shared edges).
+TileMesh boxSurface(double step) {
+    TileMesh m;
+    const Eigen::Vector3d size(2, 1, 1);
+    for (int axis = 0; axis < 3; ++axis) {
+        const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+        const int nu = int(std::lround(size[u] / step)), nv = int(std::lround(size[v] / step));
+        for (const double side : {0.0, size[axis]}) {
+            auto at = [&](int i, int j) {
+                Eigen::Vector3f p;
+                p[axis] = float(side);
+                p[u] = float(i * step);
+                p[v] = float(j * step);
+                return p;
+            };
+            for (int i = 0; i < nu; ++i) {
+                for (int j = 0; j < nv; ++j) {
+                    const Eigen::Vector3f q[4] = {at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)};
+                    // Outward normals: (u x v) = +axis, so flip on the low side.
+                    if (side > 0) {
+                        m.corners.push_back({q[0], q[1], q[2]});
+                        m.corners.push_back({q[0], q[2], q[3]});
+                    } else {
+                        m.corners.push_back({q[0], q[2], q[1]});
+                        m.corners.push_back({q[0], q[3], q[2]});
+                    }
+                }
+            }
+        }
+    }
+    m.page.assign(m.faces(), kNoPage);
+    m.label.assign(m.faces(), 0);
+    m.confidence.assign(m.faces(), 1.0f);
+    return m;
+}
+
+}  // namespace
+
+TEST_CASE("Charts: a box's surface is its six sides; the box limit splits a side", "[tiles3d]") {
+    const TileMesh box = boxSurface(0.25);
+    auto partition = [&](const std::vector<Chart>& charts) {
+        std::vector<int> seen(box.faces(), 0);
+        for (const Chart& c : charts)
+            for (const std::uint32_t f : c.faces) ++seen[f];
+        return std::all_of(seen.begin(), seen.end(), [](int s) { return s == 1; });
+    };
+    const std::vector<Chart> sides = buildCharts(box, 10.0);
+    REQUIRE(sides.size() == 6);
+    CHECK(partition(sides));
+    for (const Chart& c : sides) {
+        // A side is flat on its plane: projected area = area; its box is the side's.
+        CHECK(c.projected_m2 == Approx(c.area_m2));
+        const Eigen::Vector2d extent = c.max_m - c.min_m;
+        CHECK(c.area_m2 == Approx(extent.x() * extent.y()));
+        for (const std::uint32_t f : c.faces) {
+            const Eigen::Vector3f n = (box.corners[f][1] - box.corners[f][0]).cross(box.corners[f][2] - box.corners[f][0]);
+            CHECK(std::abs(n[c.axis]) == Approx(n.norm()));
+        }
+    }
+    const std::vector<Chart> small = buildCharts(box, 0.5);
+    CHECK(partition(small));
+    CHECK(small.size() >= 2 * 4 + 4 * 8);  // 1 x 1 sides in four 0.5 m pieces at least, 2 x 1 in eight
+    for (const Chart& c : small) CHECK((c.max_m - c.min_m).maxCoeff() <= 0.5 + 1e-9);
+}
+
+TEST_CASE("Charts: the rasterization gives each texel its face and finds overlaps", "[tiles3d]") {
+    // A 10 x 6 texel square in two triangles, 2 texels of margin: every texel centre inside
+    // the square shows the triangle that contains it; margin texels show the nearer one.
+    const Eigen::Vector2d a(2, 2), b(12, 2), c(12, 8), d(2, 8);
+    std::vector<std::int32_t> owner;
+    REQUIRE(rasterizeChart({{a, b, c}, {a, c, d}}, 14, 10, 3.0, owner).empty());
+    for (int r = 0; r < 10; ++r) {
+        for (int col = 0; col < 14; ++col) {
+            const Eigen::Vector2d q(col + 0.5, r + 0.5);
+            const std::int32_t o = owner[std::size_t(r) * 14 + std::size_t(col)];
+            REQUIRE(o >= 0);  // the whole rectangle is within 3 texels of the square
+            const Nearest2 lower = nearestOnTriangle2(q, {a, b, c}), upper = nearestOnTriangle2(q, {a, c, d});
+            CHECK(o == (upper.distance2 < lower.distance2 ? 1 : 0));
+            if (lower.strictly_inside) CHECK(o == 0);
+            if (upper.strictly_inside) CHECK(o == 1);
+        }
+    }
+    // Two triangles over the same texels, and one beside them: the overlap's two faces.
+    const Eigen::Vector2d e(13, 2), f(13.9, 2), h(13, 9);
+    CHECK(rasterizeChart({{a, b, c}, {e, f, h}, {a, b, d}}, 14, 10, 2.0, owner) == std::vector<std::uint32_t>{0, 2});
+    // The nearest point's weights rebuild it; outside, it is on the border.
+    const Nearest2 out = nearestOnTriangle2({20, 5}, {a, b, c});
+    CHECK(out.distance2 == Approx(64));
+    const Eigen::Vector2d on = out.weights[0] * a + out.weights[1] * b + out.weights[2] * c;
+    CHECK((on - Eigen::Vector2d(12, 5)).norm() < 1e-12);
+}
+
+TEST_CASE("A parent's bake is the same for any thread count", "[tiles3d]") {
+    const TileMesh a = terrain(0, 0, 4, 0.1, 2, 0.5), b = terrain(4, 0, 4, 0.1, 1, 0.5);
+    ParentOptions po;
+    po.level = 1;
+    po.voxel_size_m = 0.1;
+    auto build = [&](int threads) {
+        tbb::task_arena arena(threads);
+        TileMesh p;
+        arena.execute([&] { p = buildParent({&a, &b}, po); });
+        return p;
+    };
+    const TileMesh one = build(1), four = build(4);
+    REQUIRE(one.pages.size() == 1);
+    requireSame(one, four, true);
 }
