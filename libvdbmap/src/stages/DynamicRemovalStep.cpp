@@ -77,7 +77,7 @@ void declareDynamicOptions(OptionSpec& spec, DynamicRemovalConfig& c) {
     spec.add("dynamic_object_keep_hits",
              "A point of a moving object that at least this many scans hit and none saw through "
              "stays (0 = never)",
-             c.object_keep_hits, 2);
+             c.object_keep_hits, 1);
     spec.add("dynamic_object_static_share",
              "An object moving by its track alone whose points are at least this share kept by "
              "static evidence stays whole (a parked car a moving one passed)",

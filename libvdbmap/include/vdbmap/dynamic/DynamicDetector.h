@@ -42,7 +42,7 @@ struct DynamicRemovalConfig {
     /// A point of a moving object (not moving by its own test) that at least this many scans of
     /// the whole window hit (a return within the margin of it) and none saw through stays:
     /// static evidence beats the object's decision; 0 = never.
-    int object_keep_hits = 2;
+    int object_keep_hits = 1;
     /// An object moving by its track alone (not by its own points) whose candidate points are
     /// at least this share kept by static evidence stays whole: it is a static object the track
     /// wrongly continued (a parked car a moving one passed). 1 = only when all are kept.
