@@ -414,6 +414,7 @@ private:
         setup.current = &current_;
         setup.process = group_.rank();
         setup.processes = group_.size();
+        setup.group = &group_;
         setup.tile_seconds = &tile_seconds_;
         setup.journal = journal_ ? &*journal_ : nullptr;
         setup.config_hash = header_.config_hash;
@@ -557,6 +558,8 @@ private:
             s[std::string("integrate_") + key] =
                 nlohmann::json::parse(report_.getJson({"stages", "integrate.atsdf", key}));
         }
+        s["dynamic_removal_seconds"] = nlohmann::json::parse(
+            report_.getJson({"stages", "integrate.atsdf", "dynamic_removal", "seconds"}));
         s["cpu_time_s"] = processCpuTimeS();
         s["wall_time_s"] = total_.elapsedSeconds();
         s["peak_memory_bytes"] = peakMemoryBytes();

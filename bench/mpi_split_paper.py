@@ -1,0 +1,98 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
+"""Issue 37's MPI split on paper: a longer drive and more ranks, from the measured per-tile CPU
+times of one vdbmap-mpi run (docs/benchmarks/scale.md).
+
+    bench/mpi_split_paper.py BUILD REPORT.json ONE_CPU_S COPIES RANKS
+
+REPORT.json: a `vdbmap-mpi run --threads 1` run of K ranks (tiles one at a time on one thread,
+so each tile's `cpu_time_s` is its own); ONE_CPU_S: one rank's CPU time on the same drive.
+The drive is taken COPIES times end to end (its tiles, in finish order, and their scan frames
+shifted by the drive's frames each time), its tiles split over RANKS by the ranks' own code
+(BUILD/bin/mpi_split_partition: partitionContiguous of each tile's cost_estimate_s, the
+estimate the ranks split on). A rank's CPU is then the measured CPU of its tiles plus the rest
+of a rank's work (reading and integrating its scans, deciding its share of the moving points,
+setup), fitted on the K measured ranks as a + b * frames integrated. The fit holds when each
+rank decides as many frames as in the measured run (drive frames * COPIES / RANKS = frames / K).
+Prints the measured ranks against the model, then the prediction."""
+import json
+import subprocess
+import sys
+
+
+def fit_line(xs, ys):
+    n = len(xs)
+    mx, my = sum(xs) / n, sum(ys) / n
+    sxx = sum((x - mx) ** 2 for x in xs)
+    b = sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sxx if sxx else 0.0
+    return my - b * mx, b
+
+
+def union_length(intervals):
+    total, end = 0, None
+    for lo, hi in sorted(intervals):
+        if end is None or lo > end:
+            total += hi - lo + 1
+            end = hi
+        elif hi > end:
+            total += hi - end
+            end = hi
+    return total
+
+
+def partition(build, costs, parts):
+    out = subprocess.run([build + "/bin/mpi_split_partition", str(parts)], check=True,
+                         input="\n".join("%.17g" % c for c in costs), capture_output=True, text=True)
+    return [int(line) for line in out.stdout.split()]
+
+
+def main():
+    build, report_path, one_cpu, copies, ranks = sys.argv[1], sys.argv[2], float(sys.argv[3]), \
+        int(sys.argv[4]), int(sys.argv[5])
+    with open(report_path) as f:
+        report = json.load(f)
+    frames = report["counts"]["frames"]
+    plan = report["tiling"]["plan"]
+    cpu_of = {name: t["cpu_time_s"] for name, t in report["tiles"].items()}
+    procs = report["distributed"]["process"]
+    k = len(procs)
+    tile_cpu = [0.0] * k
+    for t in plan:
+        tile_cpu[t["process"]] += cpu_of.get(t["name"], 0.0)
+    rest = [p["cpu_time_s"] - c for p, c in zip(procs, tile_cpu)]
+    xs = [p["frames_integrated"] for p in procs]
+    a, b = fit_line(xs, rest)
+    print("measured: %d ranks, %d frames, %d planned tiles; rest of a rank = %.1f s + %.4f s per frame integrated"
+          % (k, frames, len(plan), a, b))
+    print("| rank | tiles' CPU (s) | frames integrated | rest (s) | rest, model (s) | CPU (s) |")
+    print("|---|---|---|---|---|---|")
+    for r in range(k):
+        print("| %d | %.1f | %d | %.1f | %.1f | %.1f |" % (r, tile_cpu[r], xs[r], rest[r], a + b * xs[r],
+                                                         procs[r]["cpu_time_s"]))
+    if abs(frames * copies / ranks - frames / k) > 0.05 * frames / k:
+        print("warning: a rank decides %.0f frames here, %.0f in the measured run: the fit's "
+              "constant does not carry over" % (frames * copies / ranks, frames / k))
+    # The drive COPIES times: tiles in finish order, frames shifted.
+    tiles = []
+    for c in range(copies):
+        for t in plan:
+            tiles.append({"cost": t["cost_estimate_s"], "cpu": cpu_of.get(t["name"], 0.0),
+                          "frames": (t["first_scan_frame"] + c * frames, t["last_scan_frame"] + c * frames)})
+    parts = partition(build, [t["cost"] for t in tiles], ranks)
+    cpu = []
+    for r in range(ranks):
+        mine = [t for t, p in zip(tiles, parts) if p == r]
+        n = union_length([t["frames"] for t in mine])
+        cpu.append(sum(t["cpu"] for t in mine) + (a + b * n if mine else 0.0))
+    one = one_cpu * copies
+    print("\npredicted: %d ranks on %d copies of the drive (%d tiles); one rank %.0f s" % (
+        ranks, copies, len(tiles), one))
+    print("CPU per rank (s): " + ", ".join("%.0f" % c for c in cpu))
+    print("| ranks | largest rank (s) | sum / one | predicted speed-up | efficiency |")
+    print("|---|---|---|---|---|")
+    print("| %d | %.0f | %.2f | %.2f | %.2f |" % (ranks, max(cpu), sum(cpu) / one, one / max(cpu),
+                                                one / max(cpu) / ranks))
+
+
+if __name__ == "__main__":
+    main()
