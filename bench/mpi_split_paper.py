@@ -59,7 +59,9 @@ def main():
     tile_cpu = [0.0] * k
     for t in plan:
         tile_cpu[t["process"]] += cpu_of.get(t["name"], 0.0)
-    rest = [p["cpu_time_s"] - c for p, c in zip(procs, tile_cpu)]
+    # A rank's own work, before it waited for the others (MPI busy-polls while waiting).
+    own = [p.get("own_work_cpu_time_s", p["cpu_time_s"]) for p in procs]
+    rest = [o - c for o, c in zip(own, tile_cpu)]
     xs = [p["frames_integrated"] for p in procs]
     a, b = fit_line(xs, rest)
     print("measured: %d ranks, %d frames, %d planned tiles; rest of a rank = %.1f s + %.4f s per frame integrated"
@@ -68,7 +70,7 @@ def main():
     print("|---|---|---|---|---|---|")
     for r in range(k):
         print("| %d | %.1f | %d | %.1f | %.1f | %.1f |" % (r, tile_cpu[r], xs[r], rest[r], a + b * xs[r],
-                                                         procs[r]["cpu_time_s"]))
+                                                         own[r]))
     if abs(frames * copies / ranks - frames / k) > 0.05 * frames / k:
         print("warning: a rank decides %.0f frames here, %.0f in the measured run: the fit's "
               "constant does not carry over" % (frames * copies / ranks, frames / k))
