@@ -7,8 +7,9 @@ times of one vdbmap-mpi run (docs/benchmarks/scale.md).
 
 REPORT.json: a `vdbmap-mpi run --threads 1` run of K ranks (tiles one at a time on one thread,
 so each tile's `cpu_time_s` is its own); ONE_CPU_S: one rank's CPU time on the same drive.
-The drive is taken COPIES times end to end (its tiles, in finish order, and their scan frames
-shifted by the drive's frames each time), its tiles split over RANKS by the ranks' own code
+The drive is made COPIES times as long: its first and last 200 frames' tiles once, its middle
+tiles repeated in between (each with its scan frames shifted), and one rank's CPU scaled with
+the frames; its tiles split over RANKS by the ranks' own code
 (BUILD/bin/mpi_split_partition: partitionContiguous of each tile's cost_estimate_s, the
 estimate the ranks split on). A rank's CPU is then the measured CPU of its tiles plus the rest
 of a rank's work (reading and integrating its scans, deciding its share of the moving points,
@@ -18,6 +19,8 @@ Prints the measured ranks against the model, then the prediction."""
 import json
 import subprocess
 import sys
+
+EDGE_FRAMES = 200  # the start and end of the measured drive, kept once (not repeated)
 
 
 def fit_line(xs, ys):
@@ -74,19 +77,29 @@ def main():
     if abs(frames * copies / ranks - frames / k) > 0.05 * frames / k:
         print("warning: a rank decides %.0f frames here, %.0f in the measured run: the fit's "
               "constant does not carry over" % (frames * copies / ranks, frames / k))
-    # The drive COPIES times: tiles in finish order, frames shifted.
-    tiles = []
-    for c in range(copies):
-        for t in plan:
-            tiles.append({"cost": t["cost_estimate_s"], "cpu": cpu_of.get(t["name"], 0.0),
-                          "frames": (t["first_scan_frame"] + c * frames, t["last_scan_frame"] + c * frames)})
+    # A drive COPIES times as long: the measured drive's start (tiles finished in its first
+    # EDGE frames) and end (its last EDGE frames) once, its middle repeated in between, each
+    # tile shifted with its scan frames, in finish order.
+    edge = EDGE_FRAMES
+    middle = frames - 2 * edge
+    repeats = (frames * copies - 2 * edge) // middle
+
+    def tile(t, shift):
+        return {"cost": t["cost_estimate_s"], "cpu": cpu_of.get(t["name"], 0.0), "finish": t["finish_frame"] + shift,
+                "frames": (t["first_scan_frame"] + shift, t["last_scan_frame"] + shift)}
+
+    tiles = [tile(t, 0) for t in plan if t["finish_frame"] < edge]
+    for k in range(repeats):
+        tiles += [tile(t, k * middle) for t in plan if edge <= t["finish_frame"] < frames - edge]
+    tiles += [tile(t, (repeats - 1) * middle) for t in plan if t["finish_frame"] >= frames - edge]
+    tiles.sort(key=lambda t: t["finish"])  # stable: the plan's order within a frame
     parts = partition(build, [t["cost"] for t in tiles], ranks)
     cpu = []
     for r in range(ranks):
         mine = [t for t, p in zip(tiles, parts) if p == r]
         n = union_length([t["frames"] for t in mine])
         cpu.append(sum(t["cpu"] for t in mine) + (a + b * n if mine else 0.0))
-    one = one_cpu * copies
+    one = one_cpu * (2 * edge + repeats * middle) / frames
     print("\npredicted: %d ranks on %d copies of the drive (%d tiles); one rank %.0f s" % (
         ranks, copies, len(tiles), one))
     print("CPU per rank (s): " + ", ".join("%.0f" % c for c in cpu))
