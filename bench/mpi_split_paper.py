@@ -15,8 +15,10 @@ estimate the ranks split on). A rank's CPU is then the measured CPU of its tiles
 of a rank's work (reading and integrating its scans, deciding its share of the moving points,
 setup), fitted on the K measured ranks as a + b * frames integrated. The fit holds when each
 rank decides as many frames as in the measured run (drive frames * COPIES / RANKS = frames / K).
-Prints the measured ranks against the model, then the prediction."""
+Prints the measured ranks against the model, then the prediction. OLD_ESTIMATE=1 in the
+environment splits on the estimate before issue 37's calibration (the weighted frames + 0.05)."""
 import json
+import os
 import subprocess
 import sys
 
@@ -85,7 +87,9 @@ def main():
     repeats = (frames * copies - 2 * edge) // middle
 
     def tile(t, shift):
-        return {"cost": t["cost_estimate_s"], "cpu": cpu_of.get(t["name"], 0.0), "finish": t["finish_frame"] + shift,
+        # OLD_ESTIMATE=1: the estimate before the calibration (the weighted frames + 0.05).
+        cost = t["weighted_frames"] + 0.05 if os.environ.get("OLD_ESTIMATE") else t["cost_estimate_s"]
+        return {"cost": cost, "cpu": cpu_of.get(t["name"], 0.0), "finish": t["finish_frame"] + shift,
                 "frames": (t["first_scan_frame"] + shift, t["last_scan_frame"] + shift)}
 
     tiles = [tile(t, 0) for t in plan if t["finish_frame"] < edge]
