@@ -17,6 +17,8 @@
 
 #include "support/CliRun.h"
 #include "support/OutputCompare.h"
+#include "vdbmap/dynamic/DynamicPoints.h"
+#include "vdbmap/sim/SimSequence.h"
 
 namespace fs = std::filesystem;
 using namespace vdbmap;
@@ -39,14 +41,34 @@ fs::path sequence() {
     return dir;
 }
 
+/// The same street with traffic (cars, a van, pedestrians in the LiDAR and the images),
+/// written once; only one test case uses it.
+fs::path trafficSequence() {
+    const fs::path dir = workDir() / "seq_traffic";
+    if (fs::exists(dir / "gt" / "sim.json")) return dir;
+    fs::create_directories(workDir());
+    const fs::path staging = workDir() / ("seq_traffic.writing." + std::to_string(::getpid()));
+    fs::remove_all(staging);
+    SimOptions sim;
+    sim.frames = 12;
+    sim.size_m = 60.0;
+    sim.gt_views = 0;
+    sim.traffic = 3;
+    sim.quiet = true;
+    writeSimSequence(sim, staging);
+    fs::rename(staging, dir);
+    return dir;
+}
+
 /// A tiled pipeline over `seq` with a 12 m range filter (each rank needs a stretch of the
-/// scans), written to `file`.
-fs::path writeConfig(const fs::path& file, const fs::path& seq, double tile_size_m) {
+/// scans), written to `file`. `atsdf_options`: more lines of the integrate.atsdf stage.
+fs::path writeConfig(const fs::path& file, const fs::path& seq, double tile_size_m,
+                     const std::string& atsdf_options = "") {
     std::ofstream out(file);
     out << "dataset: {format: kitti, path: " << seq.string() << ", max_range_m: 12}\n"
         << "plugins: [texture, semantic]\n"
         << "stages:\n"
-        << "  - stage: integrate.atsdf\n    voxel_size_m: 0.2\n"
+        << "  - stage: integrate.atsdf\n    voxel_size_m: 0.2\n" << atsdf_options
         << "  - stage: mesh.marching_cubes\n"
         << "  - stage: texture.mrf\n    max_view_angle_deg: 85\n"
         << "  - stage: semantic.mrf\n    max_view_angle_deg: 88\n"
@@ -80,8 +102,12 @@ std::vector<std::string> mpiArgs(int ranks, const fs::path& config, const fs::pa
 }  // namespace
 
 TEST_CASE("mpirun -np 3 writes the tiles, index and map of the single-process run", "[mpi][tiles]") {
-    const fs::path seq = sequence();
-    const fs::path config = writeConfig(workDir() / "tiled.yaml", seq, 12.8);
+    // With traffic, and moving points found by the free-space test alone (not the labels):
+    // each scan's moving points are decided by one rank for all (issue 37), and every rank
+    // must drop the points the single process drops.
+    const fs::path seq = trafficSequence();
+    const fs::path config = writeConfig(workDir() / "tiled.yaml", seq, 12.8,
+                                        "    dynamic_use_labels: false\n");
     const fs::path single = workDir() / "single", mpi = workDir() / "mpi3";
     fs::remove_all(single);
     fs::remove_all(mpi);
@@ -126,6 +152,21 @@ TEST_CASE("mpirun -np 3 writes the tiles, index and map of the single-process ru
     CHECK(partial >= 2);
     CHECK(tiles == index["tiles"].size());
     CHECK(report["tiles"].size() == index["tiles"].size());
+
+    // The moving points: the same ones (rank 0 merges the ranks' parts), and some there are.
+    const DynamicPoints moving_one = readDynamicPointsPly(single / "dynamic_points.ply");
+    const DynamicPoints moving_mpi = readDynamicPointsPly(mpi / "dynamic_points.ply");
+    CHECK(moving_one.size() > 100);
+    CHECK(moving_mpi.frame == moving_one.frame);
+    CHECK(moving_mpi.index == moving_one.index);
+    // Rank 0 tested some of its scans for every rank and took the others' decisions for the
+    // rest: every scan it integrated was decided once, here or elsewhere.
+    const nlohmann::json& dyn = report["stages"]["integrate.atsdf"]["dynamic_removal"];
+    const std::size_t frames0 = report["distributed"]["process"][0]["frames_integrated"];
+    CHECK(dyn["scans_decided_for_all"].get<std::size_t>() > 0);
+    CHECK(dyn["scans_decided_for_all"].get<std::size_t>() < frames);
+    CHECK(dyn["scans_adopted"].get<std::size_t>() > 0);
+    CHECK(dyn["scans_adopted"].get<std::size_t>() <= frames0);
 }
 
 TEST_CASE("A failing rank fails the job with exit 1, names the tile, writes no tiles.json",

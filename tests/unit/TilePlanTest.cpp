@@ -137,14 +137,27 @@ TEST_CASE("planTiles: tiles and scan frames are those a scan's reach gives", "[t
             CHECK(t->scan_frames == frames);
             CHECK(t->finish_frame >= frames.back());
             CHECK(t->finish_frame < dataset->numFrames());
+            // The cost features: the frames near the tile, weighted by their distance.
+            double weighted = 0.0;
+            for (std::size_t i = 0; i < dataset->numFrames(); ++i) {
+                const Eigen::Vector3d o = dataset->frame(i).T_W_L.translation();
+                if (groundDistance(o[a0], o[a1], ix * s - grow, iy * s - grow, (ix + 1) * s + grow,
+                                   (iy + 1) * s + grow) > 12.0)
+                    continue;
+                const double d = groundDistance(o[a0], o[a1], ix * s, iy * s, (ix + 1) * s, (iy + 1) * s);
+                weighted += std::exp(-d * d / (2.0 * 20.0 * 20.0));
+            }
+            CHECK(t->weighted_frames == Approx(weighted));
+            CHECK(t->cost == Approx(tileCostEstimate(t->weighted_frames, t->views)));
             CHECK(t->cost > 0.0);
         }
     }
     CHECK(plan.tiles.size() == expected_tiles);
 
     // Finish order; processes in contiguous runs of it; each process's frames are the union
-    // of its tiles' frames, and a stretch of the drive, not all of it.
-    std::size_t total_tiles = 0;
+    // of its tiles' frames, and a stretch of the drive, not all of it (the middle process's
+    // stretch may be all of this short drive).
+    std::size_t total_tiles = 0, partial = 0;
     for (std::size_t i = 1; i < plan.tiles.size(); ++i) {
         CHECK(plan.tiles[i].finish_frame >= plan.tiles[i - 1].finish_frame);
         CHECK(plan.tiles[i].process >= plan.tiles[i - 1].process);
@@ -156,9 +169,10 @@ TEST_CASE("planTiles: tiles and scan frames are those a scan's reach gives", "[t
         const std::vector<std::size_t> frames = plan.framesOf(p);
         CHECK(std::vector<std::size_t>(expected.begin(), expected.end()) == frames);
         CHECK(plan.tilesOf(p) > 0);
-        CHECK(frames.size() < dataset->numFrames());
+        partial += frames.size() < dataset->numFrames() ? 1 : 0;
         total_tiles += plan.tilesOf(p);
     }
+    CHECK(partial >= 2);
     CHECK(total_tiles == plan.tiles.size());
 
     // The last view that may see a tile (frustum and distance against its halo box at every
@@ -170,13 +184,18 @@ TEST_CASE("planTiles: tiles and scan frames are those a scan's reach gives", "[t
         up_min = std::min(up_min, dataset->frame(i).T_W_L.translation()[up]);
         up_max = std::max(up_max, dataset->frame(i).T_W_L.translation()[up]);
     }
+    // Its views (a cost feature) are those.
+    std::size_t with_views = 0;
     for (const PlannedTile& t : plan.tiles) {
         Tile tile = grid.tile(t.ix, t.iy);
         tile.halo_W.min_W[up] = up_min - 12.0;
         tile.halo_W.max_W[up] = up_max + 12.0;
         TileGrid::assignViews(tile, views, 15.0);
         for (const auto& [frame, camera] : tile.views) CHECK(frame <= t.finish_frame);
+        CHECK(t.views == tile.views.size());
+        with_views += t.views > 0 ? 1 : 0;
     }
+    CHECK(with_views > 3);
 
     // Unstreamed: every tile waits for the last frame.
     options.stream = false;

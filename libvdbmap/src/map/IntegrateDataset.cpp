@@ -24,18 +24,29 @@ struct LoadedScan {
     RingSpacing rings;  ///< estimated by the reader if the integrator uses them
 };
 
+/// The two filters of a scan: `filter` before its rings are estimated, `late` after.
+struct Filters {
+    const ScanFilter* filter = nullptr;
+    const ScanFilter* late = nullptr;
+    bool indexed() const { return (filter && *filter) || (late && *late); }
+};
+
 /// Scan i, read into `reuse`'s storage (the scan before last: no allocation per scan), and its
 /// rings if `rings` (the reader's work rather than the integrating threads').
-LoadedScan load(const Dataset& dataset, std::size_t i, bool rings, const ScanFilter* filter,
+LoadedScan load(const Dataset& dataset, std::size_t i, bool rings, Filters filters,
                 LoadedScan reuse) {
     reuse.stats = ScanReadStats{};
-    if (filter != nullptr && *filter) {
+    if (filters.indexed()) {
         dataset.loadScan(i, reuse.cloud, &reuse.stats, &reuse.index);
-        (*filter)(i, reuse.cloud, reuse.index, reuse.stats.points_read);
+        if (filters.filter && *filters.filter)
+            (*filters.filter)(i, reuse.cloud, reuse.index, reuse.stats.points_read);
     } else {
         dataset.loadScan(i, reuse.cloud, &reuse.stats);
     }
     reuse.rings = rings ? RingSpacing::estimate(reuse.cloud.points) : RingSpacing{};
+    // After the rings, so that the points it drops do not change them (`index` is as read).
+    if (filters.late && *filters.late)
+        (*filters.late)(i, reuse.cloud, reuse.index, reuse.stats.points_read);
     return reuse;
 }
 
@@ -47,8 +58,8 @@ LoadedScan load(const Dataset& dataset, std::size_t i, bool rings, const ScanFil
 /// get a thread of its own, so that reading still overlaps integration.
 class ReadAhead {
 public:
-    ReadAhead(const Dataset& dataset, bool rings, const ScanFilter* filter)
-        : dataset_(dataset), rings_(rings), filter_(filter), as_task_(threads() > 1) {}
+    ReadAhead(const Dataset& dataset, bool rings, Filters filters)
+        : dataset_(dataset), rings_(rings), filters_(filters), as_task_(threads() > 1) {}
     /// A read still in flight here means the loop is unwinding from another exception (every
     /// read started is taken otherwise): wait for it, and drop its own error.
     ~ReadAhead() {
@@ -65,9 +76,9 @@ public:
     void start(std::size_t frame, LoadedScan reuse) {
         if (as_task_) {
             slot_ = std::move(reuse);
-            group_.run([this, frame] { slot_ = load(dataset_, frame, rings_, filter_, std::move(slot_)); });
+            group_.run([this, frame] { slot_ = load(dataset_, frame, rings_, filters_, std::move(slot_)); });
         } else {
-            thread_ = std::async(std::launch::async, load, std::cref(dataset_), frame, rings_, filter_,
+            thread_ = std::async(std::launch::async, load, std::cref(dataset_), frame, rings_, filters_,
                                  std::move(reuse));
         }
     }
@@ -87,7 +98,7 @@ private:
 
     const Dataset& dataset_;
     const bool rings_;
-    const ScanFilter* filter_;
+    const Filters filters_;
     const bool as_task_;
     tbb::task_group group_;
     LoadedScan slot_;  ///< the task's scan
@@ -113,12 +124,21 @@ DatasetIntegration integrateDataset(const Dataset& dataset, AtsdfIntegrator& int
                                     const std::vector<std::size_t>& frames,
                                     const std::function<void(std::size_t)>& on_scan,
                                     const ScanFilter& filter, bool read_ahead) {
+    return integrateDataset(dataset, integrator, frames, on_scan, filter, ScanFilter{}, read_ahead);
+}
+
+DatasetIntegration integrateDataset(const Dataset& dataset, AtsdfIntegrator& integrator,
+                                    const std::vector<std::size_t>& frames,
+                                    const std::function<void(std::size_t)>& on_scan,
+                                    const ScanFilter& filter, const ScanFilter& late_filter,
+                                    bool read_ahead) {
     DatasetIntegration out;
     Timer total;
     const std::size_t n = frames.size();
     for (const std::size_t f : frames) (void)dataset.frame(f);  // out_of_range before reading
     const bool rings = integrator.usesRings();
-    ReadAhead next(dataset, rings, &filter);
+    const Filters filters{&filter, &late_filter};
+    ReadAhead next(dataset, rings, filters);
     if (read_ahead && n > 0) next.start(frames[0], LoadedScan{});
     LoadedScan scan;  // the scan being integrated
     for (std::size_t k = 0; k < n; ++k) {
@@ -131,7 +151,7 @@ DatasetIntegration integrateDataset(const Dataset& dataset, AtsdfIntegrator& int
             if (k + 1 < n) next.start(frames[k + 1], std::move(spare));
         } else {
             Timer wait;
-            scan = load(dataset, i, rings, &filter, std::move(scan));
+            scan = load(dataset, i, rings, filters, std::move(scan));
             out.read_wait_s += wait.elapsedSeconds();
         }
         add(out.read, scan.stats);

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <string>
 #include <vector>
 
 namespace vdbmap {
@@ -29,6 +30,13 @@ public:
     /// A process of a distributed run: the ground its points must fall in to change its tiles
     /// (after begin(); nullptr: every point matters).
     virtual const detail::PointRegion* pointRegion() const { return nullptr; }
+    /// A process of a distributed run (after begin()): the frames whose per-scan work (the
+    /// moving-object test) it does for every process: the frames any process integrates, cut
+    /// into equal contiguous runs (issue 37). Empty otherwise.
+    virtual std::vector<std::size_t> sharedFrames() const { return {}; }
+    /// Every process's `mine`, in process order; a collective: every process calls it at the
+    /// same point. One process: {mine}.
+    virtual std::vector<std::string> allGather(const std::string& mine) const { return {mine}; }
 };
 
 }  // namespace vdbmap

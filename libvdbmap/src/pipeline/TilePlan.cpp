@@ -16,8 +16,7 @@
 namespace vdbmap {
 namespace {
 
-constexpr double kCostSigmaM = 20.0;  // a frame's work on a tile falls off with its distance
-constexpr double kCostBase = 0.05;    // a tile nothing is near still costs a little
+constexpr double kCostSigmaM = 20.0;  // a frame's coverage of a tile falls off with its distance
 
 /// A rectangle on the two ground axes, metres.
 struct GroundRect {
@@ -101,22 +100,20 @@ private:
                 t.iy = iy;
                 t.scan_frames.push_back(i);
                 const double d = c.distance(g);
-                t.cost += std::exp(-d * d / (2.0 * kCostSigmaM * kCostSigmaM));
+                t.weighted_frames += std::exp(-d * d / (2.0 * kCostSigmaM * kCostSigmaM));
                 if (d <= reach) reached_core_[{iy, ix}] = true;
             });
         }
         for (auto it = tiles_.begin(); it != tiles_.end();) {
             it = reached_core_.count(it->first) ? std::next(it) : tiles_.erase(it);
         }
-        for (auto& [key, t] : tiles_) {
-            t.finish_frame = t.scan_frames.back();
-            t.cost += kCostBase;
-        }
+        for (auto& [key, t] : tiles_) t.finish_frame = t.scan_frames.back();
     }
 
-    /// Phase 2: the last view that may see each tile: its frustum up to the max view depth
-    /// against the tile's halo box, spanning every height a scan can reach (the tile's real box, known
-    /// once its leaves are, lies inside: the views it gets are among these).
+    /// Phase 2: the views that may see each tile (its frustum up to the max view depth against
+    /// the tile's halo box, spanning every height a scan can reach: the tile's real box, known
+    /// once its leaves are, lies inside, so the views it gets are among these): their number,
+    /// and the last one, after which the tile can be finished. Then the tiles' cost estimates.
     void viewPhase() {
         if (tiles_.empty()) return;
         const double halo_m = grid_.haloM();
@@ -128,7 +125,7 @@ private:
             tilesAround(g, frustumReach(view, options_.max_view_distance_m), halo_m,
                         [&](int ix, int iy) {
                 auto it = tiles_.find({iy, ix});
-                if (it == tiles_.end() || view.frame <= it->second.finish_frame) return;
+                if (it == tiles_.end()) return;
                 const GroundRect h = core(ix, iy).grown(halo_m);
                 Box3d box;
                 box.min_W[grid_.groundAxis(0)] = h.min[0];
@@ -138,10 +135,13 @@ private:
                 box.min_W[grid_.upAxis()] = up_min_ - reach;
                 box.max_W[grid_.upAxis()] = up_max_ + reach;
                 if (viewFrustumMeetsBox(view, box, 0.0, options_.max_view_distance_m)) {
-                    it->second.finish_frame = view.frame;
+                    PlannedTile& t = it->second;
+                    ++t.views;
+                    t.finish_frame = std::max(t.finish_frame, view.frame);
                 }
             });
         }
+        for (auto& [key, t] : tiles_) t.cost = tileCostEstimate(t.weighted_frames, t.views);
     }
 
     /// Phase 3: finish order, processes.
@@ -196,6 +196,21 @@ const PlannedTile* TilePlan::find(int ix, int iy) const {
     for (const PlannedTile& t : tiles)
         if (t.ix == ix && t.iy == iy) return &t;
     return nullptr;
+}
+
+double tileCostEstimate(double weighted_frames, std::size_t views) {
+    // Least squares on the 16 tiles of the 400 m street at 0.10 m (config/street_tiled.yaml,
+    // one thread, tiles one at a time: each tile's cpu_time_s is its own; 2.1 to 23.3 s):
+    // |error| summed 13 % of their CPU, largest 3.6 s (bench/mpi_split_calibrate.py,
+    // docs/benchmarks/scale.md). What is left is the scene: of two tiles with the same poses
+    // around them, the one with the buildings has 1.3 times the faces and the CPU. A tile with
+    // hardly a frame near it (often no face at all) costs next to nothing, not less.
+    constexpr double kFixedS = -2.48;
+    constexpr double kPerWeightedFrameS = 0.143;
+    constexpr double kPerViewS = 0.054;
+    constexpr double kLeastS = 0.1;
+    return std::max(kLeastS, kFixedS + kPerWeightedFrameS * weighted_frames +
+                                 kPerViewS * static_cast<double>(views));
 }
 
 std::vector<int> partitionContiguous(const std::vector<double>& costs, int parts) {

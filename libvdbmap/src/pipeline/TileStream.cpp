@@ -11,6 +11,7 @@
 #include "vdbmap/io/Dataset.h"
 #include "vdbmap/map/VoxelMap.h"
 #include "vdbmap/pipeline/Context.h"
+#include "vdbmap/pipeline/ProcessGroup.h"
 
 namespace vdbmap::detail {
 
@@ -85,6 +86,7 @@ std::vector<std::size_t> TileStream::begin(const Dataset& dataset, double update
         if (t.process == setup_.process) pending_.push_back(&t);
     }
     frames_ = plan_->framesOf(setup_.process);
+    reportPlan();
     // A process of a distributed run integrates only the points that can reach its tiles
     // (issue 37): the others would cost it integration time for leaves it does not own.
     if (setup_.processes > 1) region_.emplace(*grid_, *plan_, setup_.process, update_reach_m);
@@ -97,6 +99,40 @@ std::vector<std::size_t> TileStream::begin(const Dataset& dataset, double update
                                         std::to_string(dataset.numFrames()) + " frames"
                                   : std::string()));
     return frames_;
+}
+
+std::vector<std::size_t> TileStream::sharedFrames() const {
+    if (!plan_ || setup_.processes <= 1) return {};
+    std::vector<std::size_t> all;
+    for (const PlannedTile& t : plan_->tiles) all.insert(all.end(), t.scan_frames.begin(), t.scan_frames.end());
+    std::sort(all.begin(), all.end());
+    all.erase(std::unique(all.begin(), all.end()), all.end());
+    const std::size_t n = all.size(), p = static_cast<std::size_t>(setup_.processes),
+                      me = static_cast<std::size_t>(setup_.process);
+    using Diff = std::vector<std::size_t>::difference_type;
+    return std::vector<std::size_t>(all.begin() + static_cast<Diff>(n * me / p),
+                                    all.begin() + static_cast<Diff>(n * (me + 1) / p));
+}
+
+std::vector<std::string> TileStream::allGather(const std::string& mine) const {
+    if (!setup_.group) return {mine};
+    return setup_.group->allGather(mine);
+}
+
+void TileStream::reportPlan() {
+    nlohmann::json tiles = nlohmann::json::array();
+    for (const PlannedTile& t : plan_->tiles) {
+        tiles.push_back({{"name", std::to_string(t.ix) + "_" + std::to_string(t.iy)},
+                         {"process", t.process},
+                         {"cost_estimate_s", t.cost},
+                         {"weighted_frames", t.weighted_frames},
+                         {"views", t.views},
+                         {"scan_frames", t.scan_frames.size()},
+                         {"first_scan_frame", t.scan_frames.front()},
+                         {"last_scan_frame", t.scan_frames.back()},
+                         {"finish_frame", t.finish_frame}});
+    }
+    setup_.ctx->report().setJson({"tiling", "plan"}, tiles.dump());
 }
 
 void TileStream::balanceResume() {

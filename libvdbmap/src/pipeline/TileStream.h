@@ -22,6 +22,7 @@
 
 namespace vdbmap {
 class Context;
+class ProcessGroup;
 }
 
 namespace vdbmap::detail {
@@ -128,6 +129,8 @@ public:
         Context* ctx = nullptr;        ///< the run's context (dataset, map)
         std::string* current = nullptr;  ///< what runs now, for error reports
         int process = 0, processes = 1;
+        /// The processes of a distributed run (allGather); nullptr: one process.
+        ProcessGroup* group = nullptr;
         /// Time spent finishing tiles is added here (it runs inside the integrating stage).
         double* tile_seconds = nullptr;
         /// Each finished tile is appended here (nullptr: no journal).
@@ -155,6 +158,8 @@ public:
     int process() const override { return setup_.process; }
     int processes() const override { return setup_.processes; }
     const PointRegion* pointRegion() const override { return region_ ? &*region_ : nullptr; }
+    std::vector<std::size_t> sharedFrames() const override;
+    std::vector<std::string> allGather(const std::string& mine) const override;
 
     /// Finishes every tile not finished yet. Without begin() (no stage integrated scans
     /// through the stream) the tiles are those of the map's leaves, spread over the processes.
@@ -179,6 +184,8 @@ public:
 
 private:
     void finish(const PlannedTile& planned, long after_frame);
+    /// report.json "tiling.plan": every planned tile's process, cost estimate and its features.
+    void reportPlan();
     /// A distributed resume: the tiles given to the processes again, those the journal will
     /// likely keep at a tenth of their cost, so that the tiles still to do are balanced.
     void balanceResume();

@@ -127,8 +127,10 @@ ScanFilter DynamicRemovalStep::filter() {
     if (!detector_) return {};
     return [this](std::size_t frame, PointCloud& cloud, const std::vector<std::uint32_t>& index,
                   std::size_t points_in_file) {
-        const std::vector<std::uint8_t> dynamic =
-            detector_->detect(frame, cloud.points, index, points_in_file);
+        std::vector<std::uint8_t> dynamic;
+        if (!sharing_ || !shared_.flags(frame, index, dynamic)) {
+            dynamic = detector_->detect(frame, cloud.points, index, points_in_file);
+        }
         const Isometry3d& T_W_L = dataset_->frame(frame).T_W_L;
         const Eigen::Matrix3f R = T_W_L.linear().cast<float>();
         const Vec3f t = T_W_L.translation().cast<float>();
@@ -141,6 +143,16 @@ ScanFilter DynamicRemovalStep::filter() {
         });
         moving_->set(frame, std::move(moving_W));
     };
+}
+
+void DynamicRemovalStep::shareDecisions(
+    const std::vector<std::size_t>& mine, const std::vector<std::size_t>& integrated,
+    const std::function<std::vector<std::string>(const std::string&)>& all_gather) {
+    if (!detector_) return;
+    const std::string part = shared_.decide(*dataset_, *detector_, mine);
+    const std::vector<std::string> parts = all_gather(part);
+    sharing_ = true;
+    shared_.adopt(parts, integrated);
 }
 
 void DynamicRemovalStep::finish(Context& ctx, const std::string& stage) const {
@@ -171,6 +183,12 @@ void DynamicRemovalStep::finish(Context& ctx, const std::string& stage) const {
     r.set(key("objects_moving"), s.objects_moving);
     r.set(key("objects_tracked"), s.objects_tracked);
     r.set(key("scans_replayed"), s.scans_replayed);
+    if (sharing_) {
+        // A distributed run: scans this process tested for every process, and scans whose
+        // decision it took from another process (not tested here).
+        r.set(key("scans_decided_for_all"), shared_.decidedHere());
+        r.set(key("scans_adopted"), shared_.adopted());
+    }
     r.set(key("seconds"), s.seconds);
     r.set(key("range_images_s"), s.images_s);
     r.set(key("votes_s"), s.votes_s);

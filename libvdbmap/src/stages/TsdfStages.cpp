@@ -33,16 +33,15 @@
 namespace vdbmap::detail {
 namespace {
 
-/// `first` (may be empty), then, in a process of a distributed run, the points outside the
-/// ground its tiles need dropped (issue 37; none with space carving, whose rays change voxels
-/// all the way from the sensor). `dropped` counts them; it is read once the scans are done.
-ScanFilter withPointRegion(ScanFilter first, const Dataset& dataset, const PointRegion* region,
-                           std::size_t& dropped) {
-    if (!region) return first;
-    return [first = std::move(first), &dataset, region, &dropped](
-               std::size_t frame, PointCloud& cloud, const std::vector<std::uint32_t>& index,
-               std::size_t points_in_file) {
-        if (first) first(frame, cloud, index, points_in_file);
+/// In a process of a distributed run, the filter that drops the points outside the ground its
+/// tiles need (issue 37; none with space carving, whose rays change voxels all the way from
+/// the sensor); empty otherwise. It runs after the scan's rings are estimated (the late filter
+/// of integrateDataset), so that the points it keeps are integrated as in a single process.
+/// `dropped` counts them; it is read once the scans are done.
+ScanFilter pointRegionFilter(const Dataset& dataset, const PointRegion* region, std::size_t& dropped) {
+    if (!region) return {};
+    return [&dataset, region, &dropped](std::size_t frame, PointCloud& cloud,
+                                        const std::vector<std::uint32_t>&, std::size_t) {
         const Isometry3d& T_W_L = dataset.frame(frame).T_W_L;
         const Eigen::Matrix3f R = T_W_L.linear().cast<float>();
         const Vec3f t = T_W_L.translation().cast<float>();
@@ -204,6 +203,12 @@ public:
         const ScanStream* stream = ContextBuilder::scanStream(ctx);
         const PointRegion* region =
             stream && !config_.space_carving ? stream->pointRegion() : nullptr;
+        // A distributed run: each scan's moving points are decided by one process for all
+        // (issue 37), instead of by every process that integrates the scan.
+        if (stream && stream->processes() > 1) {
+            dynamic.shareDecisions(stream->sharedFrames(), frames,
+                                   [stream](const std::string& mine) { return stream->allGather(mine); });
+        }
         std::size_t outside_region = 0;
         DatasetIntegration run;
         {
@@ -215,7 +220,7 @@ public:
                     progress.tick();
                     ctx.scanIntegrated(frame);
                 },
-                withPointRegion(dynamic.filter(), dataset, region, outside_region));
+                dynamic.filter(), pointRegionFilter(dataset, region, outside_region));
         }
         dynamic.finish(ctx, std::string(name()));
         const ScanReadStats& read_total = run.read;

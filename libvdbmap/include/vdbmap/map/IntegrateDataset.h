@@ -43,6 +43,15 @@ DatasetIntegration integrateDataset(const Dataset& dataset, AtsdfIntegrator& int
                                     const std::vector<std::size_t>& frames,
                                     const std::function<void(std::size_t)>& on_scan,
                                     const ScanFilter& filter, bool read_ahead = true);
+/// The same with a second filter, `late_filter`, applied after the scan's rings are estimated
+/// (RingSpacing, for the integrator's grazing band): the points it drops do not change the
+/// rings the others are integrated with (a process's region of a distributed run, issue 37).
+/// Its `index` argument holds the file indices as read, before `filter` dropped points.
+DatasetIntegration integrateDataset(const Dataset& dataset, AtsdfIntegrator& integrator,
+                                    const std::vector<std::size_t>& frames,
+                                    const std::function<void(std::size_t)>& on_scan,
+                                    const ScanFilter& filter, const ScanFilter& late_filter,
+                                    bool read_ahead = true);
 /// The same over every frame of `dataset`.
 DatasetIntegration integrateDataset(const Dataset& dataset, AtsdfIntegrator& integrator,
                                     const std::function<void()>& on_scan = {}, bool read_ahead = true);

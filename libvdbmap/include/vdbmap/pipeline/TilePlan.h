@@ -31,8 +31,14 @@ struct PlannedTile {
     /// The last frame whose scan or views may change the tile's outputs: the tile can be
     /// finished once this frame is integrated.
     std::size_t finish_frame = 0;
-    /// Relative estimate of the tile's work (for load balance): the frames near the tile,
-    /// weighted by exp(-d^2 / 2 (20 m)^2) of their ground distance d to the tile.
+    /// The frames near the tile, each weighted by exp(-d^2 / 2 (20 m)^2) of its sensor's
+    /// ground distance d to the tile's core: how much of the tile the scans covered.
+    double weighted_frames = 0.0;
+    /// The views whose frustum meets the tile's halo box within max_view_distance_m (at every
+    /// height a scan reaches): those the tile's texture and semantic stages will project.
+    std::size_t views = 0;
+    /// Estimated CPU seconds of the tile's stages, for load balance (tileCostEstimate of
+    /// weighted_frames and views).
     double cost = 0.0;
     int process = 0;  ///< the process (MPI rank) that runs it
 };
@@ -57,6 +63,11 @@ struct TilePlan {
 /// Deterministic: every process computes the same plan. Throws InvalidInput for a negative or
 /// non-finite reach or processes < 1.
 TilePlan planTiles(const TileGrid& grid, const Dataset& dataset, const TilePlanOptions& options);
+
+/// The estimated CPU seconds of a tile's stages (marching cubes, texture, semantic, export)
+/// from its pose-based features, calibrated on measured per-tile CPU times (street drives at
+/// 0.10 m, docs/benchmarks/scale.md). Only its proportions matter to the split.
+double tileCostEstimate(double weighted_frames, std::size_t views);
 
 /// Cuts `costs` (in order) into `parts` contiguous runs minimising the largest run's sum;
 /// returns the part of each item (non-decreasing, parts may stay empty). parts >= 1.
