@@ -42,11 +42,9 @@ echo "map:       $run_dir/map.vdb   (vdbmap info $run_dir/map.vdb)"
 echo "mesh:      $run_dir/mesh.ply"
 echo "textured:  $run_dir/textured/mesh.obj"
 echo "semantic:  $run_dir/semantic/mesh.ply and mesh.obj"
-echo "3D Tiles:  $run_dir/3dtiles/tileset.json   (docs/tiles3d.md)"
-echo "view:      $build_dir/bin/vdbmap view $run_dir"
 echo "report:    $run_dir/report.json"
 if [ -f "$run_dir/3dtiles/tileset.json" ]; then
-    echo "3D Tiles:  $run_dir/3dtiles/tileset.json   (docs/viewer.md)"
+    echo "3D Tiles:  $run_dir/3dtiles/tileset.json   (docs/tiles3d.md, docs/viewer.md)"
     echo "view it:   $build_dir/bin/vdbmap view $run_dir"
 fi
 if [ "$eval_status" -ne 0 ]; then
