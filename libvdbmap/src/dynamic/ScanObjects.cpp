@@ -262,28 +262,34 @@ std::vector<std::uint8_t> pointsNearDynamic(const std::vector<Vec3f>& points_L,
         if (id == next) count.push_back(0);
         ++count[id];
     }
-    VoxelTable seeds(n_dynamic + 16);
-    for (std::size_t i = 0; i < points_L.size(); ++i) {
-        if (!dynamic[i]) continue;
-        const auto v = voxelOf(points_L[i]);
-        const std::uint64_t key = voxelKey(v[0], v[1], v[2]);
-        if (count[static_cast<std::size_t>(table.find(key))] >= static_cast<std::uint32_t>(min_seed_points)) {
-            seeds.insert(key, 0);
+    // The seeds' voxels grown by `rings` (Chebyshev distance), so that a point asks one voxel.
+    std::vector<std::array<std::int64_t, 3>> seed_voxels;
+    {
+        VoxelTable seen(n_dynamic + 16);
+        for (std::size_t i = 0; i < points_L.size(); ++i) {
+            if (!dynamic[i]) continue;
+            const auto v = voxelOf(points_L[i]);
+            const std::uint64_t key = voxelKey(v[0], v[1], v[2]);
+            if (count[static_cast<std::size_t>(table.find(key))] < static_cast<std::uint32_t>(min_seed_points)) continue;
+            const auto next = static_cast<std::uint32_t>(seed_voxels.size());
+            if (seen.insert(key, next) == next) seed_voxels.push_back(v);
+        }
+    }
+    if (seed_voxels.empty()) return out;
+    const auto side = static_cast<std::size_t>(2 * rings + 1);
+    VoxelTable reach(seed_voxels.size() * side * side * side + 16);
+    for (const auto& v : seed_voxels) {
+        for (int dz = -rings; dz <= rings; ++dz) {
+            for (int dy = -rings; dy <= rings; ++dy) {
+                for (int dx = -rings; dx <= rings; ++dx) reach.insert(voxelKey(v[0] + dx, v[1] + dy, v[2] + dz), 0);
+            }
         }
     }
     for (std::size_t i = 0; i < points_L.size(); ++i) {
         const std::int32_t c = objects.cluster[i];
         if (dynamic[i] || c < 0 || moving[static_cast<std::size_t>(c)]) continue;
         const auto v = voxelOf(points_L[i]);
-        bool found = false;
-        for (int dz = -rings; dz <= rings && !found; ++dz) {
-            for (int dy = -rings; dy <= rings && !found; ++dy) {
-                for (int dx = -rings; dx <= rings && !found; ++dx) {
-                    found = seeds.find(voxelKey(v[0] + dx, v[1] + dy, v[2] + dz)) >= 0;
-                }
-            }
-        }
-        out[i] = found ? 1 : 0;
+        out[i] = reach.find(voxelKey(v[0], v[1], v[2])) >= 0 ? 1 : 0;
     }
     return out;
 }
