@@ -292,31 +292,54 @@ void DynamicDetector::objectLevel(std::size_t frame, const std::vector<Vec3f>& p
         }
     }
 
-    // 3. Static evidence over every scan of the window: a candidate that scans hit and none
-    //    saw through stays.
+    // 3. Static evidence over every scan of the window: a point that scans hit and none saw
+    //    through stays. Votes are asked once per point (vote_of: its index in `votes`).
     const int keep_hits = config_.object_keep_hits;
-    const std::vector<PointVotes> votes =
-        keep_hits > 0 ? windowVotes(frame, points_L, candidates) : std::vector<PointVotes>(candidates.size());
-    auto kept = [&](std::size_t k) { return keep_hits > 0 && votes[k].free == 0 && votes[k].hit >= keep_hits; };
+    std::vector<PointVotes> votes;
+    std::vector<std::int32_t> vote_of(points_L.size(), -1);
+    auto askVotes = [&](const std::vector<std::size_t>& which) {
+        std::vector<std::size_t> fresh;
+        for (const std::size_t i : which) {
+            if (vote_of[i] < 0) fresh.push_back(i);
+        }
+        if (keep_hits <= 0 || fresh.empty()) return;
+        const std::vector<PointVotes> more = windowVotes(frame, points_L, fresh);
+        for (std::size_t k = 0; k < fresh.size(); ++k) vote_of[fresh[k]] = static_cast<std::int32_t>(votes.size() + k);
+        votes.insert(votes.end(), more.begin(), more.end());
+    };
+    auto kept = [&](std::size_t i) {
+        if (vote_of[i] < 0) return false;
+        const PointVotes& v = votes[static_cast<std::size_t>(vote_of[i])];
+        return v.free == 0 && v.hit >= keep_hits;
+    };
+    // Objects whose points among `which` are mostly kept (object_static_share).
+    auto mostlyKept = [&](const std::vector<std::size_t>& which) {
+        std::vector<std::array<std::size_t, 2>> share(objects.clusters.size(), {0, 0});  // kept, all
+        for (const std::size_t i : which) {
+            auto& sh = share[static_cast<std::size_t>(objects.cluster[i])];
+            sh[0] += kept(i) ? 1 : 0;
+            ++sh[1];
+        }
+        std::vector<std::uint8_t> out(share.size(), 0);
+        for (std::size_t c = 0; c < share.size(); ++c) {
+            out[c] = keep_hits > 0 && share[c][1] > 0 &&
+                     static_cast<double>(share[c][0]) >= config_.object_static_share * static_cast<double>(share[c][1]);
+        }
+        return out;
+    };
+    askVotes(candidates);
 
     // 4. An object moving by its track alone whose candidates are mostly kept is a static
     //    object the track wrongly continued: it stays whole.
-    std::vector<std::array<std::size_t, 2>> share(objects.clusters.size(), {0, 0});  // kept, all
-    for (std::size_t k = 0; k < candidates.size(); ++k) {
-        const std::int32_t c = objects.cluster[candidates[k]];
-        if (c < 0 || !moving[static_cast<std::size_t>(c)] || objects.clusters[static_cast<std::size_t>(c)].confirmed) continue;
-        share[static_cast<std::size_t>(c)][0] += kept(k) ? 1 : 0;
-        ++share[static_cast<std::size_t>(c)][1];
-    }
-    std::vector<std::uint8_t> stays(objects.clusters.size(), 0);
-    for (std::size_t c = 0; c < share.size(); ++c) {
-        const auto [n_kept, n_all] = share[c];
-        if (n_all > 0 && keep_hits > 0 &&
-            static_cast<double>(n_kept) >= config_.object_static_share * static_cast<double>(n_all)) {
-            stays[c] = 1;
-            ++stats_.objects_kept_static;
+    std::vector<std::size_t> continued;
+    for (const std::size_t i : candidates) {
+        const std::int32_t c = objects.cluster[i];
+        if (c >= 0 && moving[static_cast<std::size_t>(c)] && !objects.clusters[static_cast<std::size_t>(c)].confirmed) {
+            continued.push_back(i);
         }
     }
+    const std::vector<std::uint8_t> stays = mostlyKept(continued);
+    stats_.objects_kept_static += static_cast<std::size_t>(std::count(stays.begin(), stays.end(), 1));
     auto staysWhole = [&](std::size_t i) {
         const std::int32_t c = objects.cluster[i];
         return c >= 0 && stays[static_cast<std::size_t>(c)];
@@ -343,27 +366,19 @@ void DynamicDetector::objectLevel(std::size_t frame, const std::vector<Vec3f>& p
                 }
             }
         }
-        const std::vector<PointVotes> box_votes =
-            keep_hits > 0 ? windowVotes(frame, points_L, in_box) : std::vector<PointVotes>(in_box.size());
-        std::vector<std::array<std::size_t, 2>> box_share(objects.clusters.size(), {0, 0});  // kept, all
-        for (std::size_t k = 0; k < in_box.size(); ++k) {
-            auto& sh = box_share[static_cast<std::size_t>(objects.cluster[in_box[k]])];
-            sh[0] += keep_hits > 0 && box_votes[k].free == 0 && box_votes[k].hit >= keep_hits ? 1 : 0;
-            ++sh[1];
-        }
+        askVotes(in_box);
+        const std::vector<std::uint8_t> brushed = mostlyKept(in_box);
         for (const std::size_t i : in_box) {
-            const auto& sh = box_share[static_cast<std::size_t>(objects.cluster[i])];
-            if (keep_hits > 0 && static_cast<double>(sh[0]) >= config_.object_static_share * static_cast<double>(sh[1])) continue;
+            if (brushed[static_cast<std::size_t>(objects.cluster[i])]) continue;
             dynamic[i] = 1;
             ++stats_.points_object;
         }
     }
 
     // 6. The candidates that static evidence does not keep go.
-    for (std::size_t k = 0; k < candidates.size(); ++k) {
-        const std::size_t i = candidates[k];
+    for (const std::size_t i : candidates) {
         if (dynamic[i] || staysWhole(i)) continue;  // in a track's box, or a static object
-        if (kept(k)) {
+        if (kept(i)) {
             ++stats_.points_kept_by_hits;
             continue;
         }
@@ -381,7 +396,6 @@ std::vector<std::uint8_t> DynamicDetector::detect(std::size_t frame,
     Timer timer;
     ++stats_.scans;
     stats_.points_in += points_L.size();
-    (void)rank_.at(frame);  // throws for a frame the dataset does not have
 
     // Free space: the scans around this one in time.
     std::vector<PointVotes> votes;
