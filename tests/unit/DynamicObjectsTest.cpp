@@ -90,10 +90,26 @@ Recall count(const Flags& flags, const std::vector<test::DynamicScan>& scans, in
     return r;
 }
 
+/// The scene's scans, written as a dataset in scratch(name) and opened.
+struct SceneData {
+    std::vector<test::DynamicScan> scans;
+    std::shared_ptr<Dataset> dataset;
+};
+SceneData writeScene(const test::DynamicSceneOptions& o, const std::string& name);
+
 std::vector<test::DynamicScan> makeScans(const test::DynamicSceneOptions& o) {
     std::vector<test::DynamicScan> scans;
     for (int f = 0; f < o.frames; ++f) scans.push_back(test::dynamicScan(o, f));
     return scans;
+}
+
+SceneData writeScene(const test::DynamicSceneOptions& o, const std::string& name) {
+    SceneData d;
+    d.scans = makeScans(o);
+    const fs::path dir = scratch(name);
+    test::writeDynamicDataset(dir, d.scans);
+    d.dataset = openGeneric(dir);
+    return d;
 }
 
 }  // namespace
@@ -198,15 +214,14 @@ TEST_CASE("A box driving ahead to the last frame is removed there too; a stoppin
         test::DynamicSceneOptions o;
         o.mover_stop_frame = stop;
         INFO("mover stops at frame " << stop);
-        const std::vector<test::DynamicScan> scans = makeScans(o);
-        const fs::path dir = scratch("ahead" + std::to_string(stop));
-        test::writeDynamicDataset(dir, scans);
-        const auto dataset = openGeneric(dir);
+        const SceneData scene = writeScene(o, "ahead" + std::to_string(stop));
+        const auto& scans = scene.scans;
+        const auto& dataset = scene.dataset;
         DynamicRemovalConfig config;
         config.use_labels = false;
         const int last = o.frames - 1;
-        const Recall all = count(detectRange(*dataset, config, 0, last), scans, 0, 0, last);
         const Flags flags = detectRange(*dataset, config, 0, last);
+        const Recall all = count(flags, scans, 0, 0, last);
         const Recall end = count(flags, scans, 0, last - 9, last);
         config.objects.enabled = false;
         const Recall points_only = count(detectRange(*dataset, config, 0, last), scans, 0, last - 9, last);
@@ -343,14 +358,11 @@ TEST_CASE("A parked box the mover brushes past keeps every point; the mover goes
     // parked box whole by static evidence.
     test::DynamicSceneOptions o;
     o.parked = {{30.0, 4.9 + 0.15, 0.0}, {34.0, 6.8, 1.5}};
-    const std::vector<test::DynamicScan> scans = makeScans(o);
-    const fs::path dir = scratch("brush");
-    test::writeDynamicDataset(dir, scans);
-    const auto dataset = openGeneric(dir);
+    const SceneData scene = writeScene(o, "brush");
     DynamicRemovalConfig config;
     config.use_labels = false;
     const int last = o.frames - 1;
-    const Recall r = count(detectRange(*dataset, config, 0, last), scans, 0, 0, last);
+    const Recall r = count(detectRange(*scene.dataset, config, 0, last), scene.scans, 0, 0, last);
     WARN("brushing past: recall " << r.recall() << ", static removed " << r.static_removed << " / " << r.statics);
     CHECK(r.recall() >= 0.95);
     CHECK(r.static_removed == 0);
