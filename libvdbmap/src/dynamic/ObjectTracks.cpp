@@ -39,8 +39,8 @@ double boxGap(const Vec3d& a_min, const Vec3d& a_max, const Vec3d& b_min, const 
 
 std::vector<std::uint8_t> movingObjects(const std::vector<const std::vector<ScanCluster>*>& window,
                                         const ObjectTrackConfig& config,
-                                        std::vector<TrackBox>* coasting) {
-    if (coasting != nullptr) coasting->clear();
+                                        std::vector<TrackBox>* boxes) {
+    if (boxes != nullptr) boxes->clear();
     if (window.empty()) return {};
     const std::vector<ScanCluster>& current = *window.back();
     std::vector<std::uint8_t> moving(current.size(), 0);
@@ -106,7 +106,7 @@ std::vector<std::uint8_t> movingObjects(const std::vector<const std::vector<Scan
             if (last_scan && tr.confirmations >= config.min_confirmations &&
                 tr.since_confirmed <= config.frames) {
                 moving[i] = 1;
-                if (coasting != nullptr) coasting->push_back({tr.min_W, tr.max_W});
+                if (boxes != nullptr) boxes->push_back({tr.min_W, tr.max_W});
             }
         }
         // Unmatched tracks coast; those lost or no longer moving end.
@@ -116,10 +116,10 @@ std::vector<std::uint8_t> movingObjects(const std::vector<const std::vector<Scan
             if (!track_used[t]) {
                 ++tr.missed;
                 ++tr.since_confirmed;
-                if (last_scan && coasting != nullptr && tr.has_velocity && tr.missed <= config.max_missed &&
+                if (last_scan && boxes != nullptr && tr.has_velocity && tr.missed <= config.max_missed &&
                     tr.confirmations >= config.min_confirmations && tr.since_confirmed <= config.frames) {
                     const Vec3d shift = static_cast<double>(tr.missed) * tr.velocity;
-                    coasting->push_back({tr.min_W + shift, tr.max_W + shift});
+                    boxes->push_back({tr.min_W + shift, tr.max_W + shift});
                 }
             }
             if (tr.missed <= config.max_missed && tr.since_confirmed <= config.frames) kept.push_back(tr);
