@@ -355,11 +355,26 @@ void DynamicDetector::objectLevel(std::size_t frame, const std::vector<Vec3f>& p
         const Isometry3d& T_W_L = dataset_.frame(frame).T_W_L;
         const double grow = config_.objects.voxel_m;
         stats_.objects_tracked += boxes.size();
+        // A point can be in a box only if its object's world box meets the box: per object,
+        // the boxes to ask (most objects meet none, and their points are not transformed).
+        std::vector<std::vector<std::uint32_t>> boxes_of(objects.clusters.size());
+        for (std::size_t c = 0; c < objects.clusters.size(); ++c) {
+            const ScanCluster& sc = objects.clusters[c];
+            for (std::size_t k = 0; k < boxes.size(); ++k) {
+                const TrackBox& b = boxes[k];
+                if ((sc.max_W.array() >= b.min_W.array() - grow).all() && (sc.min_W.array() <= b.max_W.array() + grow).all()) {
+                    boxes_of[c].push_back(static_cast<std::uint32_t>(k));
+                }
+            }
+        }
         std::vector<std::size_t> in_box;
         for (std::size_t i = 0; i < points_L.size(); ++i) {
             if (dynamic[i] || objects.cluster[i] < 0 || staysWhole(i)) continue;
+            const std::vector<std::uint32_t>& near_boxes = boxes_of[static_cast<std::size_t>(objects.cluster[i])];
+            if (near_boxes.empty()) continue;
             const Vec3d p = T_W_L * points_L[i].cast<double>();
-            for (const TrackBox& b : boxes) {
+            for (const std::uint32_t k : near_boxes) {
+                const TrackBox& b = boxes[k];
                 if ((p.array() >= b.min_W.array() - grow).all() && (p.array() <= b.max_W.array() + grow).all()) {
                     in_box.push_back(i);
                     break;

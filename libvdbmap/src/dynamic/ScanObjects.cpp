@@ -141,6 +141,8 @@ ScanObjects findScanObjects(const std::vector<Vec3f>& points_L, const std::vecto
     std::vector<std::uint32_t> voxel_of(n, ~std::uint32_t(0));
     std::vector<std::array<std::int32_t, 3>> coords;
     VoxelTable table(n + 16);  // at most one voxel per point: never full
+    std::uint64_t last_key = ~std::uint64_t(0);  // a scan's next point is often in the same voxel
+    std::uint32_t last_id = 0;
     for (std::size_t i = 0; i < n; ++i) {
         const Vec3f& p = points_L[i];
         const float above = p.z() - ground[i];
@@ -151,10 +153,14 @@ ScanObjects findScanObjects(const std::vector<Vec3f>& points_L, const std::vecto
         const std::array<std::int32_t, 3> v{static_cast<std::int32_t>(std::floor(p.x() * inv)),
                                             static_cast<std::int32_t>(std::floor(p.y() * inv)),
                                             static_cast<std::int32_t>(std::floor(p.z() * inv))};
-        const auto next = static_cast<std::uint32_t>(coords.size());
-        const std::uint32_t id = table.insert(voxelKey(v[0], v[1], v[2]), next);
-        if (id == next) coords.push_back(v);
-        voxel_of[i] = id;
+        const std::uint64_t key = voxelKey(v[0], v[1], v[2]);
+        if (key != last_key) {
+            const auto next = static_cast<std::uint32_t>(coords.size());
+            last_id = table.insert(key, next);
+            last_key = key;
+            if (last_id == next) coords.push_back(v);
+        }
+        voxel_of[i] = last_id;
     }
     // Connected components over the 26-neighbourhood (union-find, the lower index the root).
     std::vector<std::uint32_t> parent = makeDisjointSets(coords.size());
@@ -175,15 +181,20 @@ ScanObjects findScanObjects(const std::vector<Vec3f>& points_L, const std::vecto
     // Clusters numbered by their first point in scan order.
     std::vector<std::int32_t> cluster_of_root(coords.size(), -1);
     std::vector<Vec3d> sum;
+    std::uint32_t last_voxel = ~std::uint32_t(0), last_root = 0;
     for (std::size_t i = 0; i < n; ++i) {
         if (voxel_of[i] == ~std::uint32_t(0)) continue;
-        const std::uint32_t root = findRoot(parent, voxel_of[i]);
-        std::int32_t& k = cluster_of_root[root];
+        if (voxel_of[i] != last_voxel) {
+            last_voxel = voxel_of[i];
+            last_root = findRoot(parent, last_voxel);
+        }
+        std::int32_t& k = cluster_of_root[last_root];
+        const Vec3d p_W = T_W_L * points_L[i].cast<double>();
         if (k < 0) {
             k = static_cast<std::int32_t>(out.clusters.size());
             ScanCluster sc;
             sc.min_L = sc.max_L = points_L[i];
-            sc.min_W = sc.max_W = T_W_L * points_L[i].cast<double>();
+            sc.min_W = sc.max_W = p_W;
             out.clusters.push_back(sc);
             sum.push_back(Vec3d::Zero());
         }
@@ -191,7 +202,6 @@ ScanObjects findScanObjects(const std::vector<Vec3f>& points_L, const std::vecto
         ScanCluster& sc = out.clusters[static_cast<std::size_t>(k)];
         sc.min_L = sc.min_L.cwiseMin(points_L[i]);
         sc.max_L = sc.max_L.cwiseMax(points_L[i]);
-        const Vec3d p_W = T_W_L * points_L[i].cast<double>();
         sc.min_W = sc.min_W.cwiseMin(p_W);
         sc.max_W = sc.max_W.cwiseMax(p_W);
         ++sc.points;
@@ -285,11 +295,18 @@ std::vector<std::uint8_t> pointsNearDynamic(const std::vector<Vec3f>& points_L,
             }
         }
     }
+    std::uint64_t last_key = ~std::uint64_t(0);  // a scan's next point is often in the same voxel
+    std::uint8_t last_near = 0;
     for (std::size_t i = 0; i < points_L.size(); ++i) {
         const std::int32_t c = objects.cluster[i];
         if (dynamic[i] || c < 0 || moving[static_cast<std::size_t>(c)]) continue;
         const auto v = voxelOf(points_L[i]);
-        out[i] = reach.find(voxelKey(v[0], v[1], v[2])) >= 0 ? 1 : 0;
+        const std::uint64_t key = voxelKey(v[0], v[1], v[2]);
+        if (key != last_key) {
+            last_key = key;
+            last_near = reach.find(key) >= 0 ? 1 : 0;
+        }
+        out[i] = last_near;
     }
     return out;
 }
