@@ -4,6 +4,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <atomic>
 
 namespace vdbmap {
@@ -57,6 +58,54 @@ PointVotes voteFreeSpace(const Vec3f& p_W, const std::vector<VoteScan>& scans,
     return v;
 }
 
+namespace {
+
+/// Points handled together by the look-up kernel (their coordinates in one scan's frame fit in
+/// the first-level cache).
+constexpr std::size_t kBlock = 256;
+
+/// A block of points in W as coordinate arrays, and the scratch of the look-ups.
+struct VoteBlock {
+    std::size_t n = 0;
+    float x[kBlock], y[kBlock], z[kBlock];     ///< W
+    float lx[kBlock], ly[kBlock], lz[kBlock];  ///< one scan's L
+    float range[kBlock];
+    std::int32_t pixel[kBlock];
+};
+
+/// addVotes for a block: the same votes, point by point, as addVotes gives each point (the
+/// same float arithmetic: p_L = R p + t row by row, then RangeImage::pixelsOf).
+void addVotesBlock(VoteBlock& b, const std::vector<FloatScan>& scans, float margin_m, float margin_per_m,
+                   float no_return_free_within_m, PointVotes* v) {
+    for (const FloatScan& s : scans) {
+        const Eigen::Matrix3f& R = s.R_L_W;
+        const Vec3f& t = s.t_L_W;
+        for (std::size_t i = 0; i < b.n; ++i) {
+            b.lx[i] = R(0, 0) * b.x[i] + R(0, 1) * b.y[i] + R(0, 2) * b.z[i] + t.x();
+            b.ly[i] = R(1, 0) * b.x[i] + R(1, 1) * b.y[i] + R(1, 2) * b.z[i] + t.y();
+            b.lz[i] = R(2, 0) * b.x[i] + R(2, 1) * b.y[i] + R(2, 2) * b.z[i] + t.z();
+        }
+        s.image->pixelsOf(b.lx, b.ly, b.lz, b.n, b.pixel, b.range);
+        for (std::size_t i = 0; i < b.n; ++i) {
+            if (b.pixel[i] < 0) continue;  // not in that scan's view: no evidence
+            const float d = b.range[i];
+            const float bracket = s.image->bracketAt(b.pixel[i]);
+            if (bracket == RangeImage::kNoReturn) {
+                if (d < no_return_free_within_m) ++v[i].free;  // nothing anywhere behind p
+                continue;
+            }
+            const float margin = margin_m + margin_per_m * d;
+            if (bracket > d + margin) {
+                ++v[i].free;
+            } else if (bracket >= d - margin) {
+                ++v[i].hit;
+            }
+        }
+    }
+}
+
+}  // namespace
+
 std::vector<std::uint8_t> dynamicByFreeSpace(const std::vector<Vec3f>& points_W,
                                              const std::vector<VoteScan>& first,
                                              const std::vector<VoteScan>& others,
@@ -74,15 +123,36 @@ std::vector<std::uint8_t> dynamicByFreeSpace(const std::vector<Vec3f>& points_W,
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points_W.size(), 1024),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                           std::size_t asked = 0;
-                          for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                              PointVotes v;
-                              addVotes(points_W[i], a, margin_m, margin_per_m, no_return_m, v);
-                              if (v.free != 0 || a.empty()) {  // else static: no scan saw through it
-                                  ++asked;
-                                  addVotes(points_W[i], b, margin_m, margin_per_m, no_return_m, v);
-                                  dynamic[i] = isDynamic(v, config) ? 1 : 0;
+                          VoteBlock block, again;
+                          PointVotes v[kBlock], v_again[kBlock];
+                          std::size_t again_of[kBlock];
+                          for (std::size_t begin = range.begin(); begin < range.end(); begin += kBlock) {
+                              // The first scans for every point of the block.
+                              block.n = std::min(kBlock, range.end() - begin);
+                              for (std::size_t k = 0; k < block.n; ++k) {
+                                  const Vec3f& p = points_W[begin + k];
+                                  block.x[k] = p.x(), block.y[k] = p.y(), block.z[k] = p.z();
+                                  v[k] = PointVotes{};
                               }
-                              if (votes != nullptr) (*votes)[i] = v;
+                              addVotesBlock(block, a, margin_m, margin_per_m, no_return_m, v);
+                              // The others for those some first scan saw through (else static).
+                              again.n = 0;
+                              for (std::size_t k = 0; k < block.n; ++k) {
+                                  if (v[k].free == 0 && !a.empty()) continue;
+                                  again.x[again.n] = block.x[k], again.y[again.n] = block.y[k];
+                                  again.z[again.n] = block.z[k];
+                                  v_again[again.n] = v[k];
+                                  again_of[again.n++] = k;
+                              }
+                              asked += again.n;
+                              addVotesBlock(again, b, margin_m, margin_per_m, no_return_m, v_again);
+                              for (std::size_t j = 0; j < again.n; ++j) {
+                                  v[again_of[j]] = v_again[j];
+                                  dynamic[begin + again_of[j]] = isDynamic(v_again[j], config) ? 1 : 0;
+                              }
+                              if (votes != nullptr) {
+                                  std::copy(v, v + block.n, votes->begin() + static_cast<std::ptrdiff_t>(begin));
+                              }
                           }
                           asked_all += asked;
                       });

@@ -18,32 +18,55 @@ RangeImage::RangeImage(const std::vector<Vec3f>& points_L, const RangeImageConfi
     inv_az_res_ = static_cast<float>(1.0 / az_res);
     inv_el_res_ = static_cast<float>(1.0 / el_res);
     cols_ = std::max(1, static_cast<int>(std::ceil(2.0 * kPi / az_res)));
-    // Elevations first: the rows span the scan's own (a 26 deg HDL-64 scan: 132 rows).
-    thread_local std::vector<float> elevation;
-    elevation.resize(points_L.size());
+    // Coordinates as arrays, so that the loops below vectorise (RangeImage.cpp is compiled
+    // without errno and traps: libvdbmap/CMakeLists.txt).
+    const std::size_t n = points_L.size();
+    thread_local std::vector<float> xs, ys, zs, elevation, range;
+    thread_local std::vector<std::int32_t> pixel;
+    xs.resize(n), ys.resize(n), zs.resize(n), elevation.resize(n), range.resize(n), pixel.resize(n);
+    for (std::size_t i = 0; i < n; ++i) xs[i] = points_L[i].x(), ys[i] = points_L[i].y(), zs[i] = points_L[i].z();
+    const float* x = xs.data();
+    const float* y = ys.data();
+    const float* z = zs.data();
+    // Elevations first: the rows span the scan's own (a 26 deg HDL-64 scan: 132 rows). 100 at
+    // the origin (no direction).
+    float* el = elevation.data();
+    for (std::size_t i = 0; i < n; ++i) {
+        const float xy = std::sqrt(x[i] * x[i] + y[i] * y[i]);
+        const float e = detail::fastAtan2Select(z[i], xy);
+        el[i] = (xy == 0.0f) & (z[i] == 0.0f) ? 100.0f : e;
+    }
     float el_min = 10.0f, el_max = -10.0f;
-    for (std::size_t i = 0; i < points_L.size(); ++i) {
-        const Vec3f& p = points_L[i];
-        const float xy = std::sqrt(p.x() * p.x() + p.y() * p.y());
-        if (xy == 0.0f && p.z() == 0.0f) {
-            elevation[i] = 100.0f;  // at the origin: no direction
-            continue;
-        }
-        elevation[i] = detail::fastAtan2(p.z(), xy);
-        el_min = std::min(el_min, elevation[i]);
-        el_max = std::max(el_max, elevation[i]);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (el[i] > 10.0f) continue;
+        el_min = std::min(el_min, el[i]);
+        el_max = std::max(el_max, el[i]);
     }
     if (el_min > el_max) return;  // no point with a direction: no rows
     elevation_min_rad_ = el_min;
     rows_ = static_cast<int>(std::floor((el_max - el_min) * inv_el_res_)) + 1;
+    // Each point's pixel and range, then the least range per pixel.
+    const float inv_el = inv_el_res_, inv_az = inv_az_res_;
+    const int rows = rows_, cols = cols_;
+    std::int32_t* px = pixel.data();
+    float* rg = range.data();
+    for (std::size_t i = 0; i < n; ++i) {
+        const int row_i = static_cast<int>((el[i] - el_min) * inv_el);
+        const int row = row_i < rows - 1 ? row_i : rows - 1;
+        // column(): floor by truncation, corrected below zero.
+        const float c_f = (detail::fastAtan2Select(y[i], x[i]) + 3.14159265358979323846f) * inv_az;
+        int c = static_cast<int>(c_f);
+        c -= c_f < static_cast<float>(c) ? 1 : 0;
+        c += c < 0 ? cols : 0;
+        c -= c >= cols ? cols : 0;
+        px[i] = el[i] > 10.0f ? -1 : row * cols + c;
+        rg[i] = std::sqrt(x[i] * x[i] + y[i] * y[i] + z[i] * z[i]);
+    }
     range_.assign(static_cast<std::size_t>(rows_) * static_cast<std::size_t>(cols_), kNoReturn);
-    for (std::size_t i = 0; i < points_L.size(); ++i) {
-        if (elevation[i] > 10.0f) continue;
-        const Vec3f& p = points_L[i];
-        const int row = std::min(rows_ - 1, static_cast<int>((elevation[i] - el_min) * inv_el_res_));
-        const int col = column(detail::fastAtan2(p.y(), p.x()));
-        float& r = range_[index(row, col)];
-        r = std::min(r, p.norm());
+    for (std::size_t i = 0; i < n; ++i) {
+        if (px[i] < 0) continue;
+        float& r = range_[static_cast<std::size_t>(px[i])];
+        r = std::min(r, rg[i]);
     }
     computeBrackets(config);
     range_ = std::vector<float>();  // the brackets are all a test reads
@@ -68,16 +91,19 @@ void RangeImage::computeBrackets(const RangeImageConfig& config) {
         const int sign = pass == 0 ? 1 : -1;
         for (int k = 0; k < rows_; ++k) {
             const int r = pass == 0 ? k : rows_ - 1 - k;
-            const float* row = &range_[index(r, 0)];
-            float* out = &vertical[index(r, 0)];
-            float* lr = last_range.data();
-            int* lrow = last_row.data();
+            const float* __restrict row = &range_[index(r, 0)];
+            float* __restrict out = &vertical[index(r, 0)];
+            float* __restrict lr = last_range.data();
+            int* __restrict lrow = last_row.data();
             for (std::size_t c = 0; c < cols; ++c) {
-                const float near = sign * (r - lrow[c]) <= search ? lr[c] : kNoReturn;
-                out[c] = std::min(std::min(out[c], row[c]), near);
-                const bool hit = row[c] != kNoReturn;
-                lr[c] = hit ? row[c] : lr[c];
-                lrow[c] = hit ? r : lrow[c];
+                const float rc = row[c], l = lr[c], o0 = out[c];
+                const int lrw = lrow[c];
+                const float near = sign * (r - lrw) <= search ? l : kNoReturn;
+                const float o = o0 < rc ? o0 : rc;
+                out[c] = near < o ? near : o;
+                const int hit = rc != kNoReturn ? -1 : 0;  // a mask: GCC vectorises these selects
+                lr[c] = hit ? rc : l;
+                lrow[c] = (r & hit) | (lrw & ~hit);
             }
         }
     }
@@ -107,6 +133,35 @@ void RangeImage::computeBrackets(const RangeImageConfig& config) {
                 for (int c = radius; c < cols_ - radius; ++c) out[c] = std::min(out[c], shifted[c]);
             }
         }
+    }
+}
+
+void RangeImage::pixelsOf(const float* x, const float* y, const float* z, std::size_t n, std::int32_t* pixel,
+                          float* range_m) const {
+    if (rows_ == 0) {
+        for (std::size_t i = 0; i < n; ++i) {
+            pixel[i] = -1;
+            range_m[i] = std::sqrt(x[i] * x[i] + y[i] * y[i] + z[i] * z[i]);
+        }
+        return;
+    }
+    const float el_min = elevation_min_rad_, inv_el = inv_el_res_, inv_az = inv_az_res_;
+    const float rows_f = static_cast<float>(rows_);
+    const int cols = cols_;
+    for (std::size_t i = 0; i < n; ++i) {
+        const float xy2 = x[i] * x[i] + y[i] * y[i];
+        const float range = std::sqrt(xy2 + z[i] * z[i]);
+        range_m[i] = range;
+        const float row_f = (detail::fastAtan2Select(z[i], std::sqrt(xy2)) - el_min) * inv_el;
+        const bool inside = (range != 0.0f) & (row_f >= 0.0f) & (row_f < rows_f);  // no branch
+        const int row = static_cast<int>(inside ? row_f : 0.0f);
+        // column(): floor by truncation, corrected below zero.
+        const float c_f = (detail::fastAtan2Select(y[i], x[i]) + 3.14159265358979323846f) * inv_az;
+        int c = static_cast<int>(c_f);
+        c -= c_f < static_cast<float>(c) ? 1 : 0;
+        c += c < 0 ? cols : 0;
+        c -= c >= cols ? cols : 0;
+        pixel[i] = inside ? row * cols + c : -1;
     }
 }
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <vector>
 
@@ -27,6 +28,21 @@ inline float fastAtan2(float y, float x) {
     if (ay > ax) r = 1.57079637f - r;
     if (x < 0.0f) r = 3.14159274f - r;
     return y < 0.0f ? -r : r;
+}
+
+/// fastAtan2 with selects instead of branches (the same result, 0 at the origin), for loops
+/// the compiler vectorises.
+inline float fastAtan2Select(float y, float x) {
+    const float ax = std::fabs(x), ay = std::fabs(y);
+    const float mx = ax < ay ? ay : ax, mn = ay < ax ? ay : ax;
+    const float a = mn / mx;
+    const float s = a * a;
+    float r = ((((-0.0117212f * s + 0.05265332f) * s - 0.11643287f) * s + 0.19354346f) * s -
+               0.33262347f) * s * a + 0.99997726f * a;
+    r = ay > ax ? 1.57079637f - r : r;
+    r = x < 0.0f ? 3.14159274f - r : r;
+    r = y < 0.0f ? -r : r;
+    return mx == 0.0f ? 0.0f : r;
 }
 
 }  // namespace detail
@@ -75,6 +91,15 @@ public:
         if (!(row_f >= 0.0f) || row_f >= static_cast<float>(rows_)) return kOutside;
         return bracket_[index(static_cast<int>(row_f), column(detail::fastAtan2(p_L.y(), p_L.x())))];
     }
+
+    /// bracketRange for a block of n points given by coordinates (x, y, z in the LiDAR frame,
+    /// one array each): pixel[i] is the pixel holding p_i's direction, or -1 where
+    /// bracketRange returns kOutside; range_m[i] = |p_i|. The same arithmetic as bracketRange,
+    /// written branch-free so that the compiler vectorises it (the vote loops' look-ups).
+    void pixelsOf(const float* x, const float* y, const float* z, std::size_t n, std::int32_t* pixel,
+                  float* range_m) const;
+    /// The bracket range of a pixel from pixelsOf (>= 0).
+    float bracketAt(std::int32_t pixel) const { return bracket_[static_cast<std::size_t>(pixel)]; }
 
     int rows() const { return rows_; }
     int cols() const { return cols_; }
