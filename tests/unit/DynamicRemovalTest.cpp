@@ -95,6 +95,79 @@ TEST_CASE("RangeImage: a point on the ground seen at grazing incidence is not se
     CHECK(above_free > tested * 99 / 100);
 }
 
+TEST_CASE("The vectorised look-ups give each point the votes of the one-point path", "[dynamic]") {
+    // dynamicByFreeSpace works on blocks of points with branch-free, vectorised arithmetic
+    // (RangeImage::pixelsOf); bracketRange and voteFreeSpace are the plain one-point code. The
+    // votes must be the same integers for every point: points on and off the surfaces of three
+    // scans of the street, around, above and below the images' rows, at the origin of a scan,
+    // on the azimuth seam (+-180 deg), and straight above a sensor.
+    test::DynamicSceneOptions o;
+    o.frames = 3;
+    std::vector<test::DynamicScan> raw;
+    std::vector<RangeImage> images;
+    for (int f = 0; f < 3; ++f) raw.push_back(test::dynamicScan(o, f * 2));
+    for (const auto& r : raw) images.emplace_back(r.points_L, RangeImageConfig{});
+    std::vector<VoteScan> first{{&images[0], raw[0].T_W_L.inverse()}, {&images[2], raw[2].T_W_L.inverse()}};
+    std::vector<VoteScan> others{{&images[1], raw[1].T_W_L.inverse()}};
+    std::vector<Vec3f> points_W;
+    std::mt19937 rng(11);
+    std::normal_distribution<float> jitter(0.0f, 0.5f);
+    for (const auto& r : raw) {
+        for (std::size_t i = 0; i < r.points_L.size(); i += 7) {
+            const Vec3f p_W = (r.T_W_L * r.points_L[i].cast<double>()).cast<float>();
+            points_W.push_back(p_W);
+            points_W.push_back(p_W + Vec3f(jitter(rng), jitter(rng), jitter(rng)));
+        }
+    }
+    const Vec3f o0 = raw[0].T_W_L.translation().cast<float>();
+    points_W.push_back(o0);                                   // a sensor's origin: no direction
+    points_W.push_back(o0 + Vec3f(0.0f, 0.0f, 5.0f));         // straight up: outside the rows
+    points_W.push_back(o0 + Vec3f(0.0f, 0.0f, -1.0f));        // straight down
+    points_W.push_back(o0 + Vec3f(-10.0f, 0.0f, -1.0f));      // on the azimuth seam
+    points_W.push_back(o0 + Vec3f(-10.0f, -1e-6f, -1.0f));
+    FreeSpaceVoteConfig config;
+    config.min_free_votes = 1;
+    std::vector<PointVotes> votes;
+    const std::vector<std::uint8_t> dynamic = dynamicByFreeSpace(points_W, first, others, config, nullptr, &votes);
+    REQUIRE(votes.size() == points_W.size());
+    std::vector<VoteScan> all = first;
+    all.insert(all.end(), others.begin(), others.end());
+    std::size_t mismatches = 0, seen_free = 0, seen_hit = 0;
+    for (std::size_t i = 0; i < points_W.size(); ++i) {
+        PointVotes expected = voteFreeSpace(points_W[i], first, config);
+        if (expected.free != 0) expected = voteFreeSpace(points_W[i], all, config);  // the second pass
+        mismatches += expected.free != votes[i].free || expected.hit != votes[i].hit ||
+                      dynamic[i] != (isDynamic(expected, config) ? 1 : 0);
+        seen_free += expected.free != 0;
+        seen_hit += expected.hit != 0;
+    }
+    CHECK(mismatches == 0);
+    // The comparison covers both outcomes.
+    CHECK(seen_free > 100);
+    CHECK(seen_hit > 100);
+    // And the block form of the look-up itself, against bracketRange.
+    const RangeImage& image = images[0];
+    std::vector<float> x, y, z;
+    for (const Vec3f& p_W : points_W) {
+        const Vec3f p_L = (raw[0].T_W_L.inverse() * p_W.cast<double>()).cast<float>();
+        x.push_back(p_L.x()), y.push_back(p_L.y()), z.push_back(p_L.z());
+    }
+    std::vector<std::int32_t> pixel(x.size());
+    std::vector<float> range(x.size());
+    image.pixelsOf(x.data(), y.data(), z.data(), x.size(), pixel.data(), range.data());
+    std::size_t differ = 0, outside = 0;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+        float d = 0.0f;
+        const float b = image.bracketRange(Vec3f(x[i], y[i], z[i]), d);
+        outside += b == RangeImage::kOutside;
+        const bool same = b == RangeImage::kOutside ? pixel[i] < 0
+                                                    : pixel[i] >= 0 && image.bracketAt(pixel[i]) == b;
+        differ += !same || d != range[i];
+    }
+    CHECK(differ == 0);
+    CHECK(outside >= 2);
+}
+
 TEST_CASE("A box driving along the street is removed; ground, pole and parked box are kept",
           "[dynamic]") {
     const test::DynamicSceneOptions o;
