@@ -30,9 +30,15 @@ std::vector<float> groundHeight(const std::vector<Vec3f>& points_L, const ScanOb
     const float kEmpty = std::numeric_limits<float>::max();
     std::vector<float> lowest(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny), kEmpty);
     std::vector<std::uint32_t> cell_of(points_L.size());
+    // Dividing by a power of two (the 1 m default) is multiplying by its inverse, exactly:
+    // then no division per point.
+    int exponent = 0;
+    const bool power_of_two = std::frexp(cell, &exponent) == 0.5f;
+    const float inv_cell = 1.0f / cell;
     for (std::size_t i = 0; i < points_L.size(); ++i) {
-        const int ix = std::min(nx - 1, static_cast<int>((points_L[i].x() - x0) / cell));
-        const int iy = std::min(ny - 1, static_cast<int>((points_L[i].y() - y0) / cell));
+        const float fx = points_L[i].x() - x0, fy = points_L[i].y() - y0;
+        const int ix = std::min(nx - 1, static_cast<int>(power_of_two ? fx * inv_cell : fx / cell));
+        const int iy = std::min(ny - 1, static_cast<int>(power_of_two ? fy * inv_cell : fy / cell));
         cell_of[i] = static_cast<std::uint32_t>(iy * nx + ix);
         float& l = lowest[cell_of[i]];
         l = std::min(l, points_L[i].z());
@@ -71,32 +77,31 @@ std::vector<float> groundHeight(const std::vector<Vec3f>& points_L, const ScanOb
     return height;
 }
 
-/// Open-addressing hash of voxel keys to voxel indices.
+/// Open-addressing hash of voxel keys to voxel indices (a key and its value in one slot: one
+/// cache miss a probe).
 class VoxelTable {
 public:
     explicit VoxelTable(std::size_t expected) {
-        std::size_t n = 16;
+        std::size_t n = 64;  // at least one block of slots (hash)
         while (n < 2 * expected) n <<= 1;
-        keys_.assign(n, kEmptyKey);
-        values_.assign(n, 0);
+        slots_.assign(n, Slot{kEmptyKey, 0});
         mask_ = n - 1;
     }
     /// The index of `key`, inserting `next` if absent (returns it).
     std::uint32_t insert(std::uint64_t key, std::uint32_t next) {
         std::size_t h = hash(key);
-        while (keys_[h] != kEmptyKey) {
-            if (keys_[h] == key) return values_[h];
+        while (slots_[h].key != kEmptyKey) {
+            if (slots_[h].key == key) return slots_[h].value;
             h = (h + 1) & mask_;
         }
-        keys_[h] = key;
-        values_[h] = next;
+        slots_[h] = Slot{key, next};
         return next;
     }
     /// The index of `key` or -1.
     std::int64_t find(std::uint64_t key) const {
         std::size_t h = hash(key);
-        while (keys_[h] != kEmptyKey) {
-            if (keys_[h] == key) return values_[h];
+        while (slots_[h].key != kEmptyKey) {
+            if (slots_[h].key == key) return slots_[h].value;
             h = (h + 1) & mask_;
         }
         return -1;
@@ -104,14 +109,23 @@ public:
 
 private:
     static constexpr std::uint64_t kEmptyKey = ~std::uint64_t(0);
+    struct Slot {
+        std::uint64_t key;
+        std::uint32_t value;
+    };
+    /// Blocks of 4 x 4 x 4 voxels hash to one run of 64 slots (16 B each), and the voxel's
+    /// place in its block picks the slot: a scan's points, which come in spatial order, probe
+    /// a few cache lines at a time instead of one random line per voxel.
     std::size_t hash(std::uint64_t k) const {
-        k ^= k >> 33;
-        k *= 0xff51afd7ed558ccdULL;
-        k ^= k >> 33;
-        return static_cast<std::size_t>(k) & mask_;
+        const std::uint64_t m = (std::uint64_t(1) << 21) - 1;
+        const std::uint64_t x = k >> 42, y = (k >> 21) & m, z = k & m;
+        std::uint64_t b = ((x >> 2) << 42) | ((y >> 2) << 21) | (z >> 2);
+        b ^= b >> 33;
+        b *= 0xff51afd7ed558ccdULL;
+        b ^= b >> 33;
+        return static_cast<std::size_t>((b << 6) | ((x & 3) << 4) | ((y & 3) << 2) | (z & 3)) & mask_;
     }
-    std::vector<std::uint64_t> keys_;
-    std::vector<std::uint32_t> values_;
+    std::vector<Slot> slots_;
     std::size_t mask_ = 0;
 };
 
@@ -162,18 +176,28 @@ ScanObjects findScanObjects(const std::vector<Vec3f>& points_L, const std::vecto
         }
         voxel_of[i] = last_id;
     }
-    // Connected components over the 26-neighbourhood (union-find, the lower index the root).
+    // Connected components over the 26-neighbourhood (union-find, the lower index the root),
+    // each pair of neighbours once: the 13 offsets after (0, 0, 0) in (z, y, x) order. A voxel's
+    // key plus an offset's delta is its neighbour's key (the fields never wrap: voxelKey), so
+    // one walk over the sorted keys per offset finds every pair, in memory order, instead of 13
+    // hash probes per voxel. The components do not depend on the order of the unions.
     std::vector<std::uint32_t> parent = makeDisjointSets(coords.size());
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> sorted(coords.size());
     for (std::uint32_t v = 0; v < coords.size(); ++v) {
-        const auto& a = coords[v];
-        for (int dz = -1; dz <= 1; ++dz) {
-            for (int dy = -1; dy <= 1; ++dy) {
-                for (int dx = -1; dx <= 1; ++dx) {
-                    // Each pair once: the 13 neighbours after this voxel in (z, y, x) order.
-                    if (dz < 0 || (dz == 0 && (dy < 0 || (dy == 0 && dx <= 0)))) continue;
-                    const std::int64_t w = table.find(voxelKey(a[0] + dx, a[1] + dy, a[2] + dz));
-                    if (w < 0) continue;
-                    uniteSets(parent, v, static_cast<std::uint32_t>(w));
+        sorted[v] = {voxelKey(coords[v][0], coords[v][1], coords[v][2]), v};
+    }
+    std::sort(sorted.begin(), sorted.end());
+    for (int dz = -1; dz <= 1; ++dz) {
+        for (int dy = -1; dy <= 1; ++dy) {
+            for (int dx = -1; dx <= 1; ++dx) {
+                if (dz < 0 || (dz == 0 && (dy < 0 || (dy == 0 && dx <= 0)))) continue;
+                const std::uint64_t delta = voxelKey(dx, dy, dz) - voxelKey(0, 0, 0);  // mod 2^64
+                std::size_t j = 0;
+                for (std::size_t i = 0; i < sorted.size(); ++i) {
+                    const std::uint64_t target = sorted[i].first + delta;
+                    while (j < sorted.size() && sorted[j].first < target) ++j;
+                    if (j == sorted.size()) break;
+                    if (sorted[j].first == target) uniteSets(parent, sorted[i].second, sorted[j].second);
                 }
             }
         }
