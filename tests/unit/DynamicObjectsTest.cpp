@@ -349,6 +349,20 @@ TEST_CASE("pointsNearDynamic: points of a static object next to a moving voxel, 
     // Two rings reach the point two voxels away; min seed 3 makes the second group seed.
     CHECK(pointsNearDynamic(p_L, dynamic, objects, moving, 0.2f, 2, 4)[5] == 1);
     CHECK(pointsNearDynamic(p_L, dynamic, objects, moving, 0.2f, 1, 3)[12] == 1);
+
+    // Below the seed (the legs under a pedestrian's moving body): 3 voxels under it, reached
+    // with 2 more voxels down, not with none; 3 voxels above it and 2 voxels aside stay.
+    add(0.1f, 0.1f, -0.5f, false, 0);  // 13: voxel (0, 0, -3)
+    add(0.1f, 0.1f, 0.7f, false, 0);   // 14: voxel (0, 0, 3)
+    add(0.5f, 0.1f, -0.5f, false, 0);  // 15: voxel (2, 0, -3)
+    objects.cluster = cluster;
+    const std::vector<std::uint8_t> flat = pointsNearDynamic(p_L, dynamic, objects, moving, 0.2f, 1, 4, 0);
+    const std::vector<std::uint8_t> down = pointsNearDynamic(p_L, dynamic, objects, moving, 0.2f, 1, 4, 2);
+    CHECK(flat[13] == 0);
+    CHECK(down[13] == 1);
+    CHECK(down[14] == 0);
+    CHECK(down[15] == 0);
+    CHECK(down[4] == 1);  // the neighbours still
 }
 
 TEST_CASE("A parked box the mover brushes past keeps every point; the mover goes",

@@ -135,9 +135,9 @@ TEST_CASE("The vectorised look-ups give each point the votes of the one-point pa
     std::size_t mismatches = 0, seen_free = 0, seen_hit = 0;
     for (std::size_t i = 0; i < points_W.size(); ++i) {
         PointVotes expected = voteFreeSpace(points_W[i], first, config);
-        if (expected.free != 0) expected = voteFreeSpace(points_W[i], all, config);  // the second pass
+        if (needsSecondPass(expected, config)) expected = voteFreeSpace(points_W[i], all, config);
         mismatches += expected.free != votes[i].free || expected.hit != votes[i].hit ||
-                      dynamic[i] != (isDynamic(expected, config) ? 1 : 0);
+                      expected.thin != votes[i].thin || dynamic[i] != (isDynamic(expected, config) ? 1 : 0);
         seen_free += expected.free != 0;
         seen_hit += expected.hit != 0;
     }
@@ -189,6 +189,50 @@ TEST_CASE("A box driving along the street is removed; ground, pole and parked bo
     CHECK(c.removed[0] == 0);
     CHECK(c.removed[1] == 0);
     CHECK(c.removed[2] == 0);
+}
+
+TEST_CASE("The thin test: a point 0.25 m in front of a wall that other scans saw is dynamic, the wall not",
+          "[dynamic]") {
+    // Five scans of a wall (the parked box's face, 5.2 m beside the path, 3 m tall) from
+    // x = 28 to 32 m; no mover. A point 0.25 m in front of the wall, where a pedestrian walked at
+    // another time, is inside the margin (0.3 m + 0.01 d): the plain test calls every scan a hit.
+    // The wall lies behind it by 0.25 m / cos(incidence) >= the thin margin (0.12 m + 0.005 d)
+    // for each scan: five thin votes of five, so it is dynamic. A point on the wall, or 0.05 m in
+    // front of it (range noise), gets no thin vote.
+    test::DynamicSceneOptions o;
+    o.parked = {{20.0, -7.0, 0.0}, {45.0, -5.2, 3.0}};
+    o.mover_start = {1000.0, 1000.0, 0.0};
+    o.pole_height_m = 0.0;
+    std::vector<test::DynamicScan> raw;
+    std::vector<RangeImage> images;
+    for (int f = 28; f <= 32; ++f) raw.push_back(test::dynamicScan(o, f));
+    for (const auto& r : raw) images.emplace_back(r.points_L, RangeImageConfig{});
+    std::vector<VoteScan> scans;
+    for (std::size_t k = 0; k < raw.size(); ++k) scans.push_back({&images[k], raw[k].T_W_L.inverse()});
+    FreeSpaceVoteConfig config;  // the defaults: thin test on
+    FreeSpaceVoteConfig plain = config;
+    plain.thin_margin_m = 0.0;
+    int in_front = 0, thin_in_front = 0, on_wall_thin = 0, near_wall_thin = 0, tested = 0;
+    for (double x = 29.0; x <= 31.0; x += 0.25) {
+        for (double z = 0.5; z <= 1.5; z += 0.25) {
+            const auto at = [&](double gap_m) { return Vec3f(static_cast<float>(x), static_cast<float>(-5.2 + gap_m), static_cast<float>(z)); };
+            const PointVotes front = voteFreeSpace(at(0.25), scans, config);
+            ++tested;
+            CHECK(front.free == 0);
+            CHECK(front.hit == 5);
+            CHECK_FALSE(isDynamic(front, plain));
+            in_front += isDynamic(front, config) ? 1 : 0;
+            thin_in_front += front.thin;
+            const PointVotes wall = voteFreeSpace(at(0.0), scans, config);
+            on_wall_thin += wall.thin;
+            CHECK_FALSE(isDynamic(wall, config));
+            near_wall_thin += voteFreeSpace(at(0.05), scans, config).thin;
+        }
+    }
+    CHECK(in_front == tested);
+    CHECK(thin_in_front == 5 * tested);
+    CHECK(on_wall_thin == 0);
+    CHECK(near_wall_thin == 0);
 }
 
 TEST_CASE("The same box parked is kept", "[dynamic]") {

@@ -84,7 +84,18 @@ void validateDynamicRemovalConfig(const DynamicRemovalConfig& c, const std::stri
         bad(who, "object_static_share", "in [0, 1]", c.object_static_share);
     }
     if (c.grow_voxels < 0 || c.grow_voxels > 10) bad(who, "grow_voxels", "in [0, 10]", c.grow_voxels);
+    if (c.grow_down_voxels < 0 || c.grow_down_voxels > 50) bad(who, "grow_down_voxels", "in [0, 50]", c.grow_down_voxels);
     if (c.votes.min_free_votes < 1) bad(who, "min_free_votes", ">= 1", c.votes.min_free_votes);
+    if (!(c.votes.thin_margin_m >= 0.0) || !std::isfinite(c.votes.thin_margin_m)) {
+        bad(who, "thin_margin_m", "finite and >= 0", c.votes.thin_margin_m);
+    }
+    if (!(c.votes.thin_margin_per_m >= 0.0) || !std::isfinite(c.votes.thin_margin_per_m)) {
+        bad(who, "thin_margin_per_m", "finite and >= 0", c.votes.thin_margin_per_m);
+    }
+    if (c.votes.thin_min_votes < 1) bad(who, "thin_min_votes", ">= 1", c.votes.thin_min_votes);
+    if (!(c.votes.thin_fraction >= 0.0 && c.votes.thin_fraction <= 1.0)) {
+        bad(who, "thin_fraction", "in [0, 1]", c.votes.thin_fraction);
+    }
     if (!(c.votes.free_fraction >= 0.0 && c.votes.free_fraction <= 1.0)) {
         bad(who, "free_fraction", "in [0, 1]", c.votes.free_fraction);
     }
@@ -282,7 +293,7 @@ void DynamicDetector::objectLevel(std::size_t frame, const std::vector<Vec3f>& p
     const std::vector<std::uint8_t> low = lowPointsUnder(points_L, objects, moving, voxel_m);
     const std::vector<std::uint8_t> near =
         config_.grow_voxels > 0 ? pointsNearDynamic(points_L, dynamic, objects, moving, voxel_m, config_.grow_voxels,
-                                            kGrowSeedPoints)
+                                            kGrowSeedPoints, config_.grow_down_voxels)
                                 : std::vector<std::uint8_t>(points_L.size(), 0);
     std::vector<std::size_t> candidates;
     for (std::size_t i = 0; i < points_L.size(); ++i) {
@@ -310,7 +321,7 @@ void DynamicDetector::objectLevel(std::size_t frame, const std::vector<Vec3f>& p
     auto kept = [&](std::size_t i) {
         if (vote_of[i] < 0) return false;
         const PointVotes& v = votes[static_cast<std::size_t>(vote_of[i])];
-        return v.free == 0 && v.hit >= keep_hits;
+        return v.free == 0 && v.hit - v.thin >= keep_hits;  // a thin vote stood behind p: no evidence for it
     };
     // Objects whose points among `which` are mostly kept (object_static_share).
     auto mostlyKept = [&](const std::vector<std::size_t>& which) {

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <limits>
 
 namespace vdbmap {
 
@@ -18,24 +19,39 @@ struct FloatScan {
     Vec3f t_L_W;
 };
 
+/// The margins of a vote, in float (FreeSpaceVoteConfig).
+struct Margins {
+    float margin_m, margin_per_m, no_return_free_within_m, thin_m, thin_per_m;
+    explicit Margins(const FreeSpaceVoteConfig& c)
+        : margin_m(static_cast<float>(c.margin_m)), margin_per_m(static_cast<float>(c.margin_per_m)),
+          no_return_free_within_m(static_cast<float>(c.no_return_free_within_m)),
+          thin_m(c.thin_margin_m > 0.0 ? static_cast<float>(c.thin_margin_m) : std::numeric_limits<float>::max()),
+          thin_per_m(static_cast<float>(c.thin_margin_per_m)) {}
+};
+
+/// One scan's vote for a point at range d whose pixel's bracket range is `bracket`.
+inline void vote(float bracket, float d, const Margins& m, PointVotes& v) {
+    if (bracket == RangeImage::kNoReturn) {
+        if (d < m.no_return_free_within_m) ++v.free;  // nothing anywhere behind p
+        return;
+    }
+    const float margin = m.margin_m + m.margin_per_m * d;
+    if (bracket > d + margin) {
+        ++v.free;
+    } else if (bracket >= d - margin) {
+        ++v.hit;
+        if (bracket > d + m.thin_m + m.thin_per_m * d) ++v.thin;
+    }
+}
+
 /// Adds the votes of `scans` for p_W into `v`.
-inline void addVotes(const Vec3f& p_W, const std::vector<FloatScan>& scans, float margin_m,
-                     float margin_per_m, float no_return_free_within_m, PointVotes& v) {
+inline void addVotes(const Vec3f& p_W, const std::vector<FloatScan>& scans, const Margins& m, PointVotes& v) {
     for (const FloatScan& s : scans) {
         const Vec3f p_L = s.R_L_W * p_W + s.t_L_W;
         float d = 0.0f;
         const float bracket = s.image->bracketRange(p_L, d);
         if (bracket == RangeImage::kOutside) continue;  // not in that scan's view: no evidence
-        if (bracket == RangeImage::kNoReturn) {
-            if (d < no_return_free_within_m) ++v.free;  // nothing anywhere behind p
-            continue;
-        }
-        const float margin = margin_m + margin_per_m * d;
-        if (bracket > d + margin) {
-            ++v.free;
-        } else if (bracket >= d - margin) {
-            ++v.hit;
-        }
+        vote(bracket, d, m, v);
     }
 }
 
@@ -53,8 +69,7 @@ std::vector<FloatScan> asFloat(const std::vector<VoteScan>& scans) {
 PointVotes voteFreeSpace(const Vec3f& p_W, const std::vector<VoteScan>& scans,
                          const FreeSpaceVoteConfig& config) {
     PointVotes v;
-    addVotes(p_W, asFloat(scans), static_cast<float>(config.margin_m),
-             static_cast<float>(config.margin_per_m), static_cast<float>(config.no_return_free_within_m), v);
+    addVotes(p_W, asFloat(scans), Margins(config), v);
     return v;
 }
 
@@ -75,8 +90,7 @@ struct VoteBlock {
 
 /// addVotes for a block: the same votes, point by point, as addVotes gives each point (the
 /// same float arithmetic: p_L = R p + t row by row, then RangeImage::pixelsOf).
-void addVotesBlock(VoteBlock& b, const std::vector<FloatScan>& scans, float margin_m, float margin_per_m,
-                   float no_return_free_within_m, PointVotes* v) {
+void addVotesBlock(VoteBlock& b, const std::vector<FloatScan>& scans, const Margins& m, PointVotes* v) {
     for (const FloatScan& s : scans) {
         const Eigen::Matrix3f& R = s.R_L_W;
         const Vec3f& t = s.t_L_W;
@@ -88,18 +102,7 @@ void addVotesBlock(VoteBlock& b, const std::vector<FloatScan>& scans, float marg
         s.image->pixelsOf(b.lx, b.ly, b.lz, b.n, b.pixel, b.range);
         for (std::size_t i = 0; i < b.n; ++i) {
             if (b.pixel[i] < 0) continue;  // not in that scan's view: no evidence
-            const float d = b.range[i];
-            const float bracket = s.image->bracketAt(b.pixel[i]);
-            if (bracket == RangeImage::kNoReturn) {
-                if (d < no_return_free_within_m) ++v[i].free;  // nothing anywhere behind p
-                continue;
-            }
-            const float margin = margin_m + margin_per_m * d;
-            if (bracket > d + margin) {
-                ++v[i].free;
-            } else if (bracket >= d - margin) {
-                ++v[i].hit;
-            }
+            vote(s.image->bracketAt(b.pixel[i]), b.range[i], m, v[i]);
         }
     }
 }
@@ -117,9 +120,7 @@ std::vector<std::uint8_t> dynamicByFreeSpace(const std::vector<Vec3f>& points_W,
     std::atomic<std::size_t> asked_all{0};
     if (first.empty() && others.empty()) return dynamic;
     const std::vector<FloatScan> a = asFloat(first), b = asFloat(others);
-    const float margin_m = static_cast<float>(config.margin_m);
-    const float margin_per_m = static_cast<float>(config.margin_per_m);
-    const float no_return_m = static_cast<float>(config.no_return_free_within_m);
+    const Margins margins(config);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points_W.size(), 1024),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                           std::size_t asked = 0;
@@ -134,18 +135,18 @@ std::vector<std::uint8_t> dynamicByFreeSpace(const std::vector<Vec3f>& points_W,
                                   block.x[k] = p.x(), block.y[k] = p.y(), block.z[k] = p.z();
                                   v[k] = PointVotes{};
                               }
-                              addVotesBlock(block, a, margin_m, margin_per_m, no_return_m, v);
+                              addVotesBlock(block, a, margins, v);
                               // The others for those some first scan saw through (else static).
                               again.n = 0;
                               for (std::size_t k = 0; k < block.n; ++k) {
-                                  if (v[k].free == 0 && !a.empty()) continue;
+                                  if (!needsSecondPass(v[k], config) && !a.empty()) continue;
                                   again.x[again.n] = block.x[k], again.y[again.n] = block.y[k];
                                   again.z[again.n] = block.z[k];
                                   v_again[again.n] = v[k];
                                   again_of[again.n++] = k;
                               }
                               asked += again.n;
-                              addVotesBlock(again, b, margin_m, margin_per_m, no_return_m, v_again);
+                              addVotesBlock(again, b, margins, v_again);
                               for (std::size_t j = 0; j < again.n; ++j) {
                                   v[again_of[j]] = v_again[j];
                                   dynamic[begin + again_of[j]] = isDynamic(v_again[j], config) ? 1 : 0;

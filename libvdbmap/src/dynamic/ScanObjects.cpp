@@ -272,7 +272,7 @@ std::vector<std::uint8_t> pointsNearDynamic(const std::vector<Vec3f>& points_L,
                                             const std::vector<std::uint8_t>& dynamic,
                                             const ScanObjects& objects,
                                             const std::vector<std::uint8_t>& moving, float voxel_m,
-                                            int rings, int min_seed_points) {
+                                            int rings, int min_seed_points, int down) {
     std::vector<std::uint8_t> out(points_L.size(), 0);
     const float inv = 1.0f / voxel_m;
     auto voxelOf = [&](const Vec3f& p) {
@@ -311,9 +311,10 @@ std::vector<std::uint8_t> pointsNearDynamic(const std::vector<Vec3f>& points_L,
     }
     if (seed_voxels.empty()) return out;
     const auto side = static_cast<std::size_t>(2 * rings + 1);
-    VoxelTable reach(seed_voxels.size() * side * side * side + 16);
+    const int below = rings + std::max(0, down);
+    VoxelTable reach(seed_voxels.size() * side * side * static_cast<std::size_t>(below + rings + 1) + 16);
     for (const auto& v : seed_voxels) {
-        for (int dz = -rings; dz <= rings; ++dz) {
+        for (int dz = -below; dz <= rings; ++dz) {
             for (int dy = -rings; dy <= rings; ++dy) {
                 for (int dx = -rings; dx <= rings; ++dx) reach.insert(voxelKey(v[0] + dx, v[1] + dy, v[2] + dz), 0);
             }

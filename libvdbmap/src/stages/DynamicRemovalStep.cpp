@@ -38,6 +38,18 @@ void declareDynamicOptions(OptionSpec& spec, DynamicRemovalConfig& c) {
              "And at least this fraction of the scans that saw the point's place (through it or "
              "at it; scans with something in front do not count)",
              c.votes.free_fraction, 0.0);
+    spec.add("dynamic_thin_margin_m",
+             "Thin test (0 = off): a scan whose return lies behind a point by more than this "
+             "(plus thin_margin_per_m * distance), but within the margin, stood behind it; a point "
+             "enough scans stood behind is moving (a pedestrian just in front of a parked car)",
+             c.votes.thin_margin_m, 0.12, "m");
+    spec.add("dynamic_thin_margin_per_m", "The thin margin's growth with the distance", c.votes.thin_margin_per_m,
+             0.005);
+    spec.add("dynamic_thin_min_votes", "Scans that must have stood behind or seen through a point (thin test)",
+             c.votes.thin_min_votes, 5);
+    spec.add("dynamic_thin_fraction",
+             "And at least this fraction of the scans that saw the point's place (thin test)",
+             c.votes.thin_fraction, 0.9);
     spec.add("dynamic_no_return_free_within_m",
              "A scan with no return at all around a point's direction (sky behind it) saw through "
              "it if the point is closer to that scan than this (0 = never)",
@@ -87,6 +99,10 @@ void declareDynamicOptions(OptionSpec& spec, DynamicRemovalConfig& c) {
              "moving by their own test go too unless static evidence keeps them (a pedestrian "
              "passing a parked car); 0 = off",
              c.grow_voxels, 1, "voxels");
+    spec.add("dynamic_grow_down_voxels",
+             "...and the points below such a voxel by up to this many more voxels (the legs under a "
+             "pedestrian's moving body next to a parked car)",
+             c.grow_down_voxels, 6, "voxels");
     spec.add("dynamic_ground_band_m",
              "Points less than this above the local ground height (lowest points around, with a "
              "slope allowance) are ground and join no object",

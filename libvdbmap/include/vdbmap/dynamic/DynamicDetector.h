@@ -52,6 +52,9 @@ struct DynamicRemovalConfig {
     /// mover joined to a static object in one object (a pedestrian passing a parked car).
     /// 0 = off.
     int grow_voxels = 1;
+    /// ...and below such a voxel by up to this many more object voxels: the legs under a
+    /// pedestrian's moving body, when the pedestrian walks by a parked car (one object).
+    int grow_down_voxels = 6;
 };
 
 /// Throws ConfigError naming `who` and the option for a value out of range.

@@ -25,6 +25,17 @@ struct FreeSpaceVoteConfig {
     /// through p if p is closer to it than this (well within the sensor's range); 0 = never.
     double no_return_free_within_m = 40.0;
     double free_fraction = 0.0;
+    /// The thin test (thin_margin_m 0 = off): a scan whose return lies behind p by more than
+    /// thin_margin_m + thin_margin_per_m * |p - o|, but within the margin above, is a "thin"
+    /// vote: p stood just in front of a surface that scan saw. A point with at least
+    /// thin_min_votes thin or free votes, at least thin_fraction of its free and hit votes, is
+    /// dynamic: a pedestrian 0.15 to 0.3 m in front of a parked car (docs/dynamic.md). The
+    /// bracket takes the least range around p, so a static surface's own returns lie at or in
+    /// front of it: a static point gets thin votes only from noise and pose error.
+    double thin_margin_m = 0.12;
+    double thin_margin_per_m = 0.005;
+    int thin_min_votes = 5;
+    double thin_fraction = 0.9;
 };
 
 /// One other scan to test against: its range image and its pose.
@@ -37,6 +48,7 @@ struct VoteScan {
 struct PointVotes {
     std::uint16_t free = 0;  ///< saw through it
     std::uint16_t hit = 0;   ///< had a return within the margin of it
+    std::uint16_t thin = 0;  ///< of the hits, those whose return lay behind it by the thin margin
 };
 
 /// The votes of `scans` for the point p_W: for each scan, "free" if its bracket range is beyond
@@ -48,8 +60,17 @@ PointVotes voteFreeSpace(const Vec3f& p_W, const std::vector<VoteScan>& scans,
 
 /// The decision rule on the votes (see FreeSpaceVoteConfig).
 inline bool isDynamic(const PointVotes& v, const FreeSpaceVoteConfig& config) {
-    return v.free >= config.min_free_votes &&
-           static_cast<double>(v.free) >= config.free_fraction * static_cast<double>(v.free + v.hit);
+    const double seen = static_cast<double>(v.free + v.hit);
+    if (v.free >= config.min_free_votes && static_cast<double>(v.free) >= config.free_fraction * seen) return true;
+    const int thin = v.free + v.thin;
+    return config.thin_margin_m > 0.0 && thin >= config.thin_min_votes &&
+           static_cast<double>(thin) >= config.thin_fraction * seen;
+}
+
+/// Whether a point's first-pass votes send it to the second pass (some scan saw through it,
+/// or, with the thin test, stood behind it).
+inline bool needsSecondPass(const PointVotes& v, const FreeSpaceVoteConfig& config) {
+    return v.free != 0 || (config.thin_margin_m > 0.0 && v.thin != 0);
 }
 
 /// Per point of `points_W` (one scan in W): 1 if dynamic by the free-space votes of `scans`,

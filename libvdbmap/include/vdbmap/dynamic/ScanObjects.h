@@ -67,11 +67,12 @@ std::vector<std::uint8_t> lowPointsUnder(const std::vector<Vec3f>& points_L, con
 
 /// Points of objects not flagged in `moving`, not themselves `dynamic`, within `rings` voxels of
 /// `voxel_m` (26-neighbourhood, in L) of a voxel holding at least `min_seed_points` points
-/// flagged in `dynamic`: 1 for those, else 0.
+/// flagged in `dynamic`, or below such a voxel by up to `down` more voxels (within `rings`
+/// horizontally: the legs under a pedestrian's moving body): 1 for those, else 0.
 std::vector<std::uint8_t> pointsNearDynamic(const std::vector<Vec3f>& points_L,
                                             const std::vector<std::uint8_t>& dynamic,
                                             const ScanObjects& objects,
                                             const std::vector<std::uint8_t>& moving, float voxel_m,
-                                            int rings, int min_seed_points);
+                                            int rings, int min_seed_points, int down = 0);
 
 }  // namespace vdbmap
