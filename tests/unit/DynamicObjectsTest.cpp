@@ -157,7 +157,7 @@ TEST_CASE("ScanObjects: the ground joins no object, boxes are objects, moving by
 TEST_CASE("ObjectTracks: a tracked object stays moving for track_frames scans, a static one never",
           "[dynamic][objects]") {
     // An object moving 1.2 m per scan along x, confirmed in scans 0..4 only, and a static
-    // object 3 m beside its path, never confirmed.
+    // object 4 m beside its path (2.2 m between their boxes: beyond the gate), never confirmed.
     const int scans = 25;
     std::vector<std::vector<ScanCluster>> all(scans);
     for (int s = 0; s < scans; ++s) {
@@ -167,9 +167,13 @@ TEST_CASE("ObjectTracks: a tracked object stays moving for track_frames scans, a
         mover.compact = true;
         mover.extent_m = 4.0f;
         ScanCluster still;
-        still.centroid_W = Vec3d(12.0, 3.0, 1.0);
+        still.centroid_W = Vec3d(12.0, 4.0, 1.0);
         still.compact = true;
         still.extent_m = 4.0f;
+        for (ScanCluster* c : {&mover, &still}) {  // 4 x 1.8 x 1.5 m boxes, 2.2 m apart
+            c->min_W = c->centroid_W - Vec3d(2.0, 0.9, 0.75);
+            c->max_W = c->centroid_W + Vec3d(2.0, 0.9, 0.75);
+        }
         all[static_cast<std::size_t>(s)] = {still, mover};
     }
     ObjectTrackConfig config;  // 10 frames, history 12
@@ -380,4 +384,63 @@ TEST_CASE("A parked box the mover brushes past keeps every point; the mover goes
     WARN("brushing past: recall " << r.recall() << ", static removed " << r.static_removed << " / " << r.statics);
     CHECK(r.recall() >= 0.95);
     CHECK(r.static_removed == 0);
+}
+
+TEST_CASE("ObjectTracks: the other parts of a mover near its track's box are moving, larger objects not",
+          "[dynamic][objects]") {
+    // A car seen from behind, driving 2.5 m per scan along +x: scans 0..4 see its rear as one
+    // object, moving by its own points. In scan 5 it is three objects: its lower body (which
+    // continues the track), its cabin 0.2 m in front of it, and a strip under it 2 m further
+    // on; a parked car joined to the kerb (7 m) lies 0.3 m beside it, and a bin 1 m away.
+    auto object = [](double x0, double x1, double y0, double y1, double z0, double z1, bool confirmed) {
+        ScanCluster c;
+        c.min_W = Vec3d(x0, y0, z0);
+        c.max_W = Vec3d(x1, y1, z1);
+        c.centroid_W = 0.5 * (c.min_W + c.max_W);
+        c.extent_m = static_cast<float>(std::hypot(x1 - x0, y1 - y0));
+        c.compact = true;
+        c.confirmed = confirmed;
+        return c;
+    };
+    std::vector<std::vector<ScanCluster>> scans;
+    for (int s = 0; s <= 4; ++s) scans.push_back({object(2.5 * s, 2.5 * s + 0.4, -0.9, 0.9, 0.2, 1.5, true)});
+    const double x = 2.5 * 5;
+    scans.push_back({object(x, x + 0.4, -0.9, 0.9, 0.2, 0.8, false),               // lower body
+                     object(x + 0.6, x + 0.8, -0.85, 0.85, 0.8, 1.5, false),       // cabin
+                     object(x + 2.2, x + 2.4, -0.8, 0.8, 0.1, 0.15, false),        // strip under it
+                     object(x - 3.0, x + 4.0, 1.2, 3.0, 0.0, 1.5, false),           // parked car at the kerb
+                     object(x + 0.2, x + 0.6, -2.5, -1.9, 0.0, 1.0, false)});       // a bin 1 m aside
+    std::vector<const std::vector<ScanCluster>*> window;
+    for (const auto& scan : scans) window.push_back(&scan);
+    ObjectTrackConfig config;  // parts within 0.5 m, up to 2.5 m
+    CHECK(movingObjects(window, config) == std::vector<std::uint8_t>{1, 1, 0, 0, 0});
+    config.part_gate_m = 2.0;  // the strip 1.8 m on is a part too; the parked car never (larger)
+    CHECK(movingObjects(window, config) == std::vector<std::uint8_t>{1, 1, 1, 0, 1});
+    config.part_max_extent_m = 0.0;  // only parts no larger than the track's object
+    CHECK(movingObjects(window, config) == std::vector<std::uint8_t>{1, 1, 1, 0, 1});
+    config.part_gate_m = -1.0;  // off: the one-to-one association alone
+    CHECK(movingObjects(window, config) == std::vector<std::uint8_t>{1, 0, 0, 0, 0});
+}
+
+TEST_CASE("Near the end of a drive the first pass asks later scans: a car pulling away straight ahead",
+          "[dynamic][objects]") {
+    // The car drives in the sensor's lane, 1.8 m per frame against the sensor's 1 m: every
+    // earlier scan sees its own rear in front of where it is later, so only later scans see
+    // through the places it leaves. In frames 21..26 the four furthest scans of the window that
+    // exist are all earlier ones (+10 and +20 are past the end), and at least two later ones
+    // exist, which see through the car's rear.
+    test::DynamicSceneOptions o;
+    o.mover_start = Vec3d(12.0, 0.0, 0.0);
+    const SceneData scene = writeScene(o, "pulling_away");
+    DynamicRemovalConfig config;
+    config.use_labels = false;
+    config.objects.enabled = false;  // the free-space test alone
+    std::vector<std::size_t> first, others;
+    DynamicDetector(*scene.dataset, config).neighbours(24, first, others);
+    CHECK(first == std::vector<std::size_t>{4, 14, 16, 18, 30, 28});  // -20, -10, -8, -6, then +6, +4
+    CHECK(others == std::vector<std::size_t>{20, 22, 26});
+    const Recall end = count(detectRange(*scene.dataset, config, 0, o.frames - 1), scene.scans, 0, 21, 26);
+    REQUIRE(end.mover > 500);
+    CHECK(end.recall() >= 0.9);
+    CHECK(end.static_removed == 0);
 }

@@ -293,6 +293,11 @@ TEST_CASE("Neighbours: the window and the far frames, in frame order without tim
     // Offsets furthest first (-o before +o), those inside the 40 frames: +20, -10, +10, -8 ...
     CHECK(first == std::vector<std::size_t>{35, 5, 25, 7});
     CHECK(others == std::vector<std::size_t>{23, 9, 21, 11, 19, 13, 17});
+    // Near the end every one of the four furthest is earlier: the two furthest later ones join
+    // the first pass (+4, +2), the others keep the order of the offsets.
+    detector.neighbours(35, first, others);
+    CHECK(first == std::vector<std::size_t>{5, 15, 25, 27, 39, 37});
+    CHECK(others == std::vector<std::size_t>{29, 31, 33});
     CHECK_THROWS_AS(validateDynamicRemovalConfig(
                         [] {
                             DynamicRemovalConfig c;

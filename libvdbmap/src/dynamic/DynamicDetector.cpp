@@ -78,6 +78,10 @@ void validateDynamicRemovalConfig(const DynamicRemovalConfig& c, const std::stri
     if (!(c.tracks.max_step_m > 0.0) || !std::isfinite(c.tracks.max_step_m)) {
         bad(who, "track_max_step_m", "finite and > 0", c.tracks.max_step_m);
     }
+    if (!std::isfinite(c.tracks.part_gate_m)) bad(who, "track_part_gate_m", "finite", c.tracks.part_gate_m);
+    if (!(c.tracks.part_max_extent_m >= 0.0) || !std::isfinite(c.tracks.part_max_extent_m)) {
+        bad(who, "track_part_extent_m", "finite and >= 0", c.tracks.part_max_extent_m);
+    }
     if (c.tracks.min_confirmations < 1) bad(who, "track_min_confirmations", ">= 1", c.tracks.min_confirmations);
     if (c.object_keep_hits < 0) bad(who, "object_keep_hits", ">= 0", c.object_keep_hits);
     if (!(c.object_static_share >= 0.0 && c.object_static_share <= 1.0)) {
@@ -141,10 +145,35 @@ void DynamicDetector::neighbours(std::size_t frame, std::vector<std::size_t>& fi
     others.clear();
     const long r = static_cast<long>(rank_.at(frame));
     const long n = static_cast<long>(order_.size());
+    // The first pass: the kFirstPass furthest in time that exist, and the two furthest of a
+    // side none of them is on. Near the start or the end of a drive the furthest scans all
+    // lie on one side, and a car driving ahead of the sensor hides its own places from every
+    // earlier scan: only the later ones see through them.
+    std::size_t on_side[2] = {0, 0};  // first-pass scans before and after this one
+    std::vector<std::size_t> rest[2];
     for (const int o : offsets_) {
         const long q = r + o;
         if (q < 0 || q >= n) continue;
-        (first.size() < kFirstPass ? first : others).push_back(order_[static_cast<std::size_t>(q)]);
+        const int side = o > 0 ? 1 : 0;
+        if (first.size() < kFirstPass) {
+            first.push_back(order_[static_cast<std::size_t>(q)]);
+            ++on_side[side];
+        } else {
+            rest[side].push_back(order_[static_cast<std::size_t>(q)]);
+        }
+    }
+    for (int side = 0; side < 2; ++side) {
+        const std::size_t extra = on_side[side] == 0 ? std::min<std::size_t>(2, rest[side].size()) : 0;
+        first.insert(first.end(), rest[side].begin(), rest[side].begin() + static_cast<long>(extra));
+        rest[side].erase(rest[side].begin(), rest[side].begin() + static_cast<long>(extra));
+    }
+    // The second pass: the rest, in the order of the offsets.
+    for (const int o : offsets_) {
+        const long q = r + o;
+        if (q < 0 || q >= n) continue;
+        const std::size_t f = order_[static_cast<std::size_t>(q)];
+        const auto& side = rest[o > 0 ? 1 : 0];
+        if (std::find(side.begin(), side.end(), f) != side.end()) others.push_back(f);
     }
 }
 

@@ -35,6 +35,36 @@ double boxGap(const Vec3d& a_min, const Vec3d& a_max, const Vec3d& b_min, const 
     return gap.norm();
 }
 
+/// Whether a track makes objects moving: confirmed often enough, recently enough.
+bool isMoving(const Track& tr, const ObjectTrackConfig& config) {
+    return tr.confirmations >= config.min_confirmations && tr.since_confirmed <= config.frames;
+}
+
+/// Parts (ObjectTrackConfig::part_gate_m): the objects of the last scan that no track took,
+/// within part_gate_m of the box of a moving track where it is now (matched: its updated box;
+/// coasting: moved on by its velocity), no larger than the track's object or than
+/// part_max_extent_m, are moving. A part is never larger than the whole, so an object joined
+/// to a static one (a car at the kerb) is not made moving here.
+void markParts(const std::vector<ScanCluster>& objects, const std::vector<Track>& tracks,
+               const std::vector<char>& track_used, const std::vector<char>& object_used,
+               const ObjectTrackConfig& config, std::vector<std::uint8_t>& moving) {
+    if (config.part_gate_m < 0.0) return;
+    for (std::size_t t = 0; t < tracks.size(); ++t) {
+        const Track& tr = tracks[t];
+        if (!tr.has_velocity || !isMoving(tr, config)) continue;
+        if (!track_used[t] && tr.missed + 1 > config.max_missed) continue;
+        const Vec3d shift = track_used[t] ? Vec3d::Zero() : Vec3d(static_cast<double>(tr.missed + 1) * tr.velocity);
+        for (std::size_t i = 0; i < objects.size(); ++i) {
+            const ScanCluster& o = objects[i];
+            if (moving[i] || object_used[i] || !o.compact) continue;
+            const bool part = o.extent_m <= tr.extent_m || sameSize(o.extent_m, tr.extent_m) ||
+                              o.extent_m <= static_cast<float>(config.part_max_extent_m);
+            if (!part) continue;
+            if (boxGap(o.min_W, o.max_W, tr.min_W + shift, tr.max_W + shift) <= config.part_gate_m) moving[i] = 1;
+        }
+    }
+}
+
 }  // namespace
 
 std::vector<std::uint8_t> movingObjects(const std::vector<const std::vector<ScanCluster>*>& window,
@@ -103,12 +133,12 @@ std::vector<std::uint8_t> movingObjects(const std::vector<const std::vector<Scan
             } else {
                 ++tr.since_confirmed;
             }
-            if (last_scan && tr.confirmations >= config.min_confirmations &&
-                tr.since_confirmed <= config.frames) {
+            if (last_scan && isMoving(tr, config)) {
                 moving[i] = 1;
                 if (boxes != nullptr) boxes->push_back({tr.min_W, tr.max_W});
             }
         }
+        if (last_scan) markParts(objects, tracks, track_used, object_used, config, moving);
         // Unmatched tracks coast; those lost or no longer moving end.
         std::vector<Track> kept;
         for (std::size_t t = 0; t < tracks.size(); ++t) {
@@ -117,7 +147,7 @@ std::vector<std::uint8_t> movingObjects(const std::vector<const std::vector<Scan
                 ++tr.missed;
                 ++tr.since_confirmed;
                 if (last_scan && boxes != nullptr && tr.has_velocity && tr.missed <= config.max_missed &&
-                    tr.confirmations >= config.min_confirmations && tr.since_confirmed <= config.frames) {
+                    isMoving(tr, config)) {
                     const Vec3d shift = static_cast<double>(tr.missed) * tr.velocity;
                     boxes->push_back({tr.min_W + shift, tr.max_W + shift});
                 }

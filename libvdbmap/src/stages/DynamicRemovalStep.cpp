@@ -117,7 +117,7 @@ void declareDynamicOptions(OptionSpec& spec, DynamicRemovalConfig& c) {
              "own points (0 = no tracking)",
              c.tracks.frames, 10, "frames");
     spec.add("dynamic_track_gate_m",
-             "An object continues a track if its centroid is within this of the track's prediction",
+             "An object continues a track if its box is within this of the box the track predicts",
              c.tracks.gate_m, 1.5, "m");
     spec.add("dynamic_track_max_step_m",
              "...or, for a track without a velocity yet, within this of its last centroid per scan",
@@ -125,6 +125,14 @@ void declareDynamicOptions(OptionSpec& spec, DynamicRemovalConfig& c) {
     spec.add("dynamic_track_min_confirmations",
              "Objects moving by their own points a track needs before it makes others moving",
              c.tracks.min_confirmations, 2);
+    spec.add("dynamic_track_part_gate_m",
+             "An object no track took, within this of a moving track's box and no larger than its "
+             "object (or than dynamic_track_part_extent_m), is a part of the mover (a car seen "
+             "from behind is several objects); < 0 = off",
+             c.tracks.part_gate_m, 0.5, "m");
+    spec.add("dynamic_track_part_extent_m",
+             "...a part may be this large even when the track's object was smaller",
+             c.tracks.part_max_extent_m, 2.5, "m");
     spec.add("dynamic_use_labels",
              "Also remove points whose LiDAR label (when the dataset has them) is a moving class "
              "252-259",

@@ -24,6 +24,13 @@ struct ObjectTrackConfig {
     int min_confirmations = 2;
     /// A track not matched in more than this many consecutive scans ends.
     int max_missed = 3;
+    /// Parts: an object of the scan being decided that no track took, within part_gate_m of
+    /// the box of a moving track (where the track predicts its object) and no larger than
+    /// that object (sameSize) or than part_max_extent_m, is a part of the mover: moving. A car
+    /// seen from behind is several objects (its cabin, its body, a strip under it), and the one
+    /// to one association continues one of them. part_gate_m < 0 = off.
+    double part_gate_m = 0.5;
+    double part_max_extent_m = 2.5;
 };
 
 /// Scans of history a decision needs: the tracker runs over the window of the scan and the
@@ -44,6 +51,8 @@ inline int trackHistory(const ObjectTrackConfig& c) { return c.frames > 0 ? c.fr
 /// - The track's box is the whole object's: an object of the track's size (sameSize) replaces
 ///   it and gives the velocity (the step of the box centres, averaged); a smaller object (a
 ///   part seen) or a larger one (joined to a static object) moves the old box by the velocity.
+/// - Parts (part_gate_m): the other objects of the last scan near a moving track's box, no
+///   larger than its object, are moving too.
 /// `boxes` (may be null) gets the box (W) of each track moving at the last scan, continued or
 /// not (its object joined a static one, or was not seen): what the track predicts the object
 /// occupies.
