@@ -50,6 +50,9 @@ std::string TileStream::inFlightJson() const {
         j["tasks"] = f.tasks;
         j["launches_waited"] = f.waits;
         j["launch_wait_s"] = f.wait_s;
+        j["memory_without_tiles_bytes"] = f.base_samples;
+        // [rss, allocator bytes in use, allocator free bytes, estimates in flight] per launch.
+        j["memory_at_launch_bytes"] = f.at_launch;
     } else {
         j["most_tiles_in_flight"] = outcomes_.empty() && without_faces_ == 0 ? 0 : 1;
     }
@@ -219,6 +222,8 @@ void TileStream::finish(const PlannedTile& planned, long after_frame) {
     largest_estimate_ = std::max(largest_estimate_, estimate);
     if (!tasks_) {
         completed(run->finish(*setup_.current), inputs);
+        run.reset();
+        releaseFreedMemory();
     } else {
         tasksCall([&] {
             tasks_->launch(estimate, [this, run, inputs](std::string& at) {

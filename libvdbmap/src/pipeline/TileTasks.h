@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 
+#include <array>
 #include <condition_variable>
 #include <cstddef>
 #include <exception>
@@ -30,6 +31,14 @@ public:
         std::size_t tasks = 0;
         std::size_t waits = 0;                ///< launches that waited for a slot
         double wait_s = 0.0;                  ///< time launch() spent waiting
+        /// The memory without tiles in flight, each time it was sampled (a launch with none
+        /// in flight), in order: how the process's own memory grows along the drive.
+        std::vector<std::size_t> base_samples;
+        /// At each launch: the process's RSS, the bytes the allocator has handed out and not
+        /// got back (glibc mallinfo2: arenas and mmapped chunks; 0 elsewhere), the free bytes
+        /// it holds in its arenas, and the estimates of the tiles in flight (without the one
+        /// launched): RSS minus the bytes in use is what the allocator retains (issue 37).
+        std::vector<std::array<std::size_t, 4>> at_launch;
     };
     /// `base_bytes()` gives the process's memory without tiles in flight (sampled when none is).
     TileTasks(std::size_t max_in_flight, std::size_t budget_bytes,
@@ -56,6 +65,7 @@ public:
 
 private:
     void joinFinished();  ///< joins the threads of finished tasks (lock held)
+    void sampleBase();    ///< base_ = the memory now, recorded in the figures (lock held)
     void rethrowIfFailed(std::unique_lock<std::mutex>& lock);
 
     struct Task {
@@ -76,6 +86,14 @@ private:
     std::string failed_at_;
     Figures figures_;
 };
+
+/// Gives the allocator's free pages back to the system (glibc: malloc_trim(0), every arena),
+/// so that memory a finished tile freed is not counted again in the next tile's peak (issue
+/// 37). VDBMAP_MALLOC_TRIM=0 in the environment turns it off (for measuring its effect).
+void releaseFreedMemory();
+
+/// The allocator's bytes in use and free bytes in its arenas (glibc mallinfo2); {0, 0} elsewhere.
+std::array<std::size_t, 2> allocatorBytes();
 
 /// The process's resident memory now (VmRSS), bytes; 0 if unknown.
 std::size_t currentRssBytes();
