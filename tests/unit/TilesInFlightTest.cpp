@@ -9,12 +9,15 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <string>
+#include <thread>
 
 #include "pipeline/TileStream.h"
 #include "support/PluginPath.h"
@@ -152,6 +155,41 @@ TEST_CASE("A failing tile task fails the run naming the tile, without tiles.json
     const nlohmann::json r = nlohmann::json::parse(report.toJson());
     CHECK(r["status"]["state"] == "failed");
     CHECK(r["status"]["failed_at"].get<std::string>().rfind("tile ", 0) == 0);
+}
+
+TEST_CASE("The budget counts the map's growth since the memory without tiles was sampled",
+          "[tiles][inflight]") {
+    // Tiles in flight from the first launch on: the base (here 100 + the map's growth, as the
+    // RSS would be) is sampled at the first launch only. The second launch fits the budget on
+    // that sample (100 + 400 + 400 <= 1000) but not once the map has grown by 300 since: it
+    // waits for the first task to end (and samples the base again, none being in flight).
+    for (const std::size_t growth_after : {std::size_t(0), std::size_t(300)}) {
+        INFO("growth " << growth_after);
+        std::atomic<std::size_t> growth{0};
+        std::atomic<bool> release{false}, first_ended{false};
+        detail::TileTasks tasks(2, 1000, [&] { return 100 + growth.load(); }, [&] { return growth.load(); });
+        tasks.launch(400, [&](std::string&) {
+            while (!release) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+            first_ended = true;
+        });
+        growth = growth_after;
+        std::thread releaser([&] {
+            std::this_thread::sleep_for(std::chrono::milliseconds(100));
+            release = true;
+        });
+        tasks.launch(400, [](std::string&) {});
+        const bool waited_for_first = first_ended;
+        releaser.join();
+        tasks.waitAll();
+        const detail::TileTasks::Figures f = tasks.figures();
+        CHECK(f.base_samples == (growth_after > 0 ? std::vector<std::size_t>{100, 400}
+                                                  : std::vector<std::size_t>{100}));
+        REQUIRE(f.at_launch.size() == 2);
+        CHECK(f.at_launch[1][4] == 100 + growth_after);  // the base the budget counted
+        CHECK(f.waits == (growth_after > 0 ? 1u : 0u));
+        CHECK(waited_for_first == (growth_after > 0));
+        CHECK(f.max_in_flight == (growth_after > 0 ? 1u : 2u));
+    }
 }
 
 namespace {

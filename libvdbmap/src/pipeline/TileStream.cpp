@@ -21,8 +21,12 @@ namespace fs = std::filesystem;
 
 TileStream::TileStream(const Setup& setup) : setup_(setup) {
     if (setup_.max_in_flight > 1) {
+        // The map grows while tiles are in flight (from the first launch to the last on a
+        // streamed run): the budget counts its growth on top of the last sample.
+        const Context* ctx = setup_.ctx;
         tasks_ = std::make_unique<TileTasks>(setup_.max_in_flight, setup_.memory_budget_bytes,
-                                             [] { return currentRssBytes(); });
+                                             [] { return currentRssBytes(); },
+                                             [ctx] { return ctx->map().tsdfMemoryBytes(); });
     }
 }
 
@@ -55,7 +59,8 @@ std::string TileStream::inFlightJson() const {
         j["launches_waited"] = f.waits;
         j["launch_wait_s"] = f.wait_s;
         j["memory_without_tiles_bytes"] = f.base_samples;
-        // [rss, allocator bytes in use, allocator free bytes, estimates in flight] per launch.
+        // [rss, allocator bytes in use, allocator free bytes, estimates in flight, memory
+        // without tiles counted] per launch.
         j["memory_at_launch_bytes"] = f.at_launch;
     } else {
         j["most_tiles_in_flight"] = outcomes_.empty() && without_faces_ == 0 ? 0 : 1;

@@ -16,9 +16,10 @@
 namespace vdbmap::detail {
 
 TileTasks::TileTasks(std::size_t max_in_flight, std::size_t budget_bytes,
-                     std::function<std::size_t()> base_bytes)
+                     std::function<std::size_t()> base_bytes,
+                     std::function<std::size_t()> growth_bytes)
     : max_in_flight_(std::max<std::size_t>(1, max_in_flight)), budget_bytes_(budget_bytes),
-      base_bytes_(std::move(base_bytes)) {}
+      base_bytes_(std::move(base_bytes)), growth_bytes_(std::move(growth_bytes)) {}
 
 TileTasks::~TileTasks() { abandon(); }
 
@@ -44,7 +45,11 @@ void TileTasks::launch(std::size_t estimate_bytes, std::function<void(std::strin
     std::unique_lock<std::mutex> lock(mutex_);
     joinFinished();
     rethrowIfFailed(lock);
-    if (in_flight_ == 0) sampleBase();
+    if (in_flight_ == 0) {
+        sampleBase();
+    } else {
+        updateBase();
+    }
     auto fits = [&] {
         if (failure_) return true;
         if (in_flight_ == 0) return true;  // one tile always runs, whatever its estimate
@@ -61,7 +66,7 @@ void TileTasks::launch(std::size_t estimate_bytes, std::function<void(std::strin
     }
     {
         const std::array<std::size_t, 2> heap = allocatorBytes();
-        figures_.at_launch.push_back({currentRssBytes(), heap[0], heap[1], estimates_});
+        figures_.at_launch.push_back({currentRssBytes(), heap[0], heap[1], estimates_, base_});
     }
     ++in_flight_;
     estimates_ += estimate_bytes;
@@ -94,8 +99,15 @@ void TileTasks::launch(std::size_t estimate_bytes, std::function<void(std::strin
 }
 
 void TileTasks::sampleBase() {
-    base_ = base_bytes_ ? base_bytes_() : 0;
+    base_sample_ = base_bytes_ ? base_bytes_() : 0;
+    growth_at_sample_ = growth_bytes_ ? growth_bytes_() : 0;
+    base_ = base_sample_;
     figures_.base_samples.push_back(base_);
+}
+
+void TileTasks::updateBase() {
+    const std::size_t growth = growth_bytes_ ? growth_bytes_() : 0;
+    base_ = base_sample_ + (growth > growth_at_sample_ ? growth - growth_at_sample_ : 0);
 }
 
 void TileTasks::poll() {

@@ -36,13 +36,19 @@ public:
         std::vector<std::size_t> base_samples;
         /// At each launch: the process's RSS, the bytes the allocator has handed out and not
         /// got back (glibc mallinfo2: arenas and mmapped chunks; 0 elsewhere), the free bytes
-        /// it holds in its arenas, and the estimates of the tiles in flight (without the one
-        /// launched): RSS minus the bytes in use is what the allocator retains (issue 37).
-        std::vector<std::array<std::size_t, 4>> at_launch;
+        /// it holds in its arenas, the estimates of the tiles in flight (without the one
+        /// launched), and the memory without tiles the budget counted (the last sample plus
+        /// the growth since): RSS minus the bytes in use is what the allocator retains.
+        std::vector<std::array<std::size_t, 5>> at_launch;
     };
-    /// `base_bytes()` gives the process's memory without tiles in flight (sampled when none is).
+    /// `base_bytes()` gives the process's memory without tiles in flight (sampled when none
+    /// is). `growth_bytes()` (optional) gives memory the process grows by with tiles in flight
+    /// that no tile's estimate holds (the map): each launch counts the base as the last sample
+    /// plus its growth since, as tiles are in flight from the first launch to the last on a
+    /// streamed run and the base would otherwise be sampled only once.
     TileTasks(std::size_t max_in_flight, std::size_t budget_bytes,
-              std::function<std::size_t()> base_bytes);
+              std::function<std::size_t()> base_bytes,
+              std::function<std::size_t()> growth_bytes = {});
     ~TileTasks();  ///< waits for every task (errors dropped)
     TileTasks(const TileTasks&) = delete;
     TileTasks& operator=(const TileTasks&) = delete;
@@ -66,6 +72,7 @@ public:
 private:
     void joinFinished();  ///< joins the threads of finished tasks (lock held)
     void sampleBase();    ///< base_ = the memory now, recorded in the figures (lock held)
+    void updateBase();    ///< base_ = the last sample plus the growth since (lock held)
     void rethrowIfFailed(std::unique_lock<std::mutex>& lock);
 
     struct Task {
@@ -76,7 +83,10 @@ private:
     const std::size_t max_in_flight_;
     const std::size_t budget_bytes_;
     std::function<std::size_t()> base_bytes_;
-    std::size_t base_ = 0;       ///< the process without tiles, sampled when none was in flight
+    std::function<std::size_t()> growth_bytes_;
+    std::size_t base_sample_ = 0;  ///< the process without tiles, sampled when none was in flight
+    std::size_t growth_at_sample_ = 0;  ///< growth_bytes() when base_sample_ was taken
+    std::size_t base_ = 0;  ///< base_sample_ plus the growth since (updated at each launch)
     std::size_t in_flight_ = 0;
     std::size_t estimates_ = 0;  ///< sum over the tasks in flight
     std::vector<std::unique_ptr<Task>> tasks_;
