@@ -4,9 +4,11 @@
 # For each report.json: the run's peak, CPU, the memory without tiles (RSS each time a tile was
 # launched with none in flight: the compact map, the scan reader, what the allocator kept), its
 # first, middle and last samples, the compact map (active voxels x bytes per voxel), and the
-# peak as the tiles finished (report.json tiles.<name>.peak_memory_bytes, in finish order).
+# peak as the tiles finished (report.json tiles.<name>.peak_memory_bytes, in finish order), and
+# what the allocator keeps: RSS minus its bytes in use at each launch (memory_at_launch_bytes).
 #   bench/inflight_memory.py WORK/inflight/report.json [more reports...]
 import json
+import statistics
 import sys
 
 GIB = 1024.0 ** 3
@@ -28,6 +30,18 @@ def main():
             print(f"  memory without tiles ({n} samples): first {base[0] / GIB:.3f}, "
                   f"middle {base[n // 2] / GIB:.3f}, last {base[-1] / GIB:.3f}, "
                   f"max {max(base) / GIB:.3f} GiB")
+        heavy = sum(1 for t in r["tiles"].values() if t["memory_estimate_bytes"] >= 0.75 * GIB)
+        print(f"  {len(r['tiles'])} tiles, {heavy} estimated at 0.75 GiB or more")
+        launches = f.get("memory_at_launch_bytes", [])
+        if launches:
+            # [RSS, allocator bytes in use, allocator free bytes, estimates in flight(, base counted)]
+            kept = [(x[0] - x[1]) / GIB for x in launches]
+            half = kept[len(kept) // 2:]
+            print(f"  RSS - allocator bytes in use at the {len(kept)} launches: median "
+                  f"{statistics.median(kept):.3f}, max {max(kept):.3f}, second half median "
+                  f"{statistics.median(half):.3f} GiB; bytes in use median "
+                  f"{statistics.median(x[1] for x in launches) / GIB:.3f}, max "
+                  f"{max(x[1] for x in launches) / GIB:.3f} GiB")
         tiles = sorted(r["tiles"].items(), key=lambda kv: (kv[1]["finished_after_frame"] % 10**9, kv[0]))
         steps = []
         for name, t in tiles:
