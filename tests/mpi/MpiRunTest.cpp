@@ -2,12 +2,15 @@
 // vdbmap-mpi under `mpirun --oversubscribe -np 3` (issue 13): the same tiles, index and map as
 // the single-process tiled run; each rank reads a stretch of the scans; a failing rank fails
 // the job with exit 1 naming the tile, and no tiles.json is written; more ranks than tiles
-// is a warning. OMPI_ALLOW_RUN_AS_ROOT(_CONFIRM) are set for the mpirun child only.
+// is a warning; a tile worked in pieces (a budget below its estimate) gives the single-process
+// run's pieces. OMPI_ALLOW_RUN_AS_ROOT(_CONFIRM) are set for the mpirun child only.
 #include <catch2/catch.hpp>
 
 #include <signal.h>
 
+#include <algorithm>
 #include <array>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -63,7 +66,7 @@ fs::path trafficSequence() {
 /// A tiled pipeline over `seq` with a 12 m range filter (each rank needs a stretch of the
 /// scans), written to `file`. `atsdf_options`: more lines of the integrate.atsdf stage.
 fs::path writeConfig(const fs::path& file, const fs::path& seq, double tile_size_m,
-                     const std::string& atsdf_options = "") {
+                     const std::string& atsdf_options = "", const std::string& tiling_extra = "") {
     std::ofstream out(file);
     out << "dataset: {format: kitti, path: " << seq.string() << ", max_range_m: 12}\n"
         << "plugins: [texture, semantic]\n"
@@ -74,7 +77,7 @@ fs::path writeConfig(const fs::path& file, const fs::path& seq, double tile_size
         << "  - stage: semantic.mrf\n    max_view_angle_deg: 88\n"
         << "    lidar_labels: true\n    label_map: semantickitti\n"
         << "tiling: {tile_size_m: " << tile_size_m
-        << ", halo_m: 1, occluder_margin_m: 3, max_view_distance_m: 20}\n";
+        << ", halo_m: 1, occluder_margin_m: 3, max_view_distance_m: 20" << tiling_extra << "}\n";
     return file;
 }
 
@@ -167,6 +170,57 @@ TEST_CASE("mpirun -np 3 writes the tiles, index and map of the single-process ru
     CHECK(dyn["scans_decided_for_all"].get<std::size_t>() < frames);
     CHECK(dyn["scans_adopted"].get<std::size_t>() > 0);
     CHECK(dyn["scans_adopted"].get<std::size_t>() <= frames0);
+}
+
+TEST_CASE("A tile worked in pieces under mpirun -np 2: the single-process run's pieces, byte for byte",
+          "[mpi][tiles][split][heavy]") {
+    // The largest tile's estimate from a run with a budget above every tile, then a budget
+    // just below it (the same on every rank: the split depends on the tile and the budget).
+    const fs::path seq = sequence();
+    const fs::path whole = workDir() / "split_whole", single = workDir() / "split_single",
+                   mpi = workDir() / "split_mpi2";
+    for (const fs::path& p : {whole, single, mpi}) fs::remove_all(p);
+    Child first(test::kVdbmapExe, {"run", writeConfig(workDir() / "split_whole.yaml", seq, 12.8, "",
+                                                      ", memory_budget_gb: 64").string(),
+                                   "-o", whole.string(), "--quiet"});
+    const int first_code = first.exitCode();
+    INFO(first.log());
+    REQUIRE(first_code == 0);
+    std::size_t largest = 0;
+    const nlohmann::json whole_report = nlohmann::json::parse(readText(whole / "report.json"));
+    for (const auto& [name, tile] : whole_report["tiles"].items()) {
+        largest = std::max(largest, tile["memory_estimate_bytes"].get<std::size_t>());
+    }
+    REQUIRE(largest > (64u << 20) + (512u << 10));  // the budget above the estimate's fixed part
+    char budget[64];
+    std::snprintf(budget, sizeof(budget), ", memory_budget_gb: %.9f",
+                  static_cast<double>(largest - (512u << 10)) / (1024.0 * 1024.0 * 1024.0));
+    const fs::path config = writeConfig(workDir() / "split.yaml", seq, 12.8, "", budget);
+    Child one(test::kVdbmapExe, {"run", config.string(), "-o", single.string(), "--quiet"});
+    const int one_code = one.exitCode();
+    INFO(one.log());
+    REQUIRE(one_code == 0);
+    Child two(VDBMAP_MPIEXEC, mpiArgs(2, config, mpi), mpiEnv());
+    INFO(two.log());
+    REQUIRE(two.exitCode() == 0);
+
+    const nlohmann::json report = nlohmann::json::parse(readText(mpi / "report.json"));
+    CHECK(report["tiling"]["split_tiles"].get<std::size_t>() >= 1);
+    CHECK(report["tiling"]["split_tiles"] ==
+          nlohmann::json::parse(readText(single / "report.json"))["tiling"]["split_tiles"]);
+    const auto a = filesBelow(single / "tiles");
+    const auto b = filesBelow(mpi / "tiles");
+    std::size_t piece_files = 0;
+    CHECK(a.size() == b.size());
+    for (const auto& [file, bytes] : a) {
+        INFO(file);
+        REQUIRE(b.count(file) == 1);
+        CHECK(b.at(file) == bytes);
+        piece_files += file.substr(0, file.find('/')).find('.') != std::string::npos ? 1 : 0;
+    }
+    CHECK(piece_files > 0);
+    CHECK(readText(single / "tiles.json") == readText(mpi / "tiles.json"));
+    CHECK(vdbVoxels(single / "map.vdb") == vdbVoxels(mpi / "map.vdb"));
 }
 
 TEST_CASE("A failing rank fails the job with exit 1, names the tile, writes no tiles.json",

@@ -190,3 +190,61 @@ TEST_CASE("Tile grid: leaf-aligned size, world bounds, bad regions", "[mesh][til
     bad.halo_vox = -1;
     CHECK_THROWS_AS(extractMeshRegion(map, MarchingCubesConfig{}, bad), InvalidInput);
 }
+
+TEST_CASE("Tile pieces: the tile's core cut on leaf edges, the halo rule, the same core faces",
+          "[mesh][tiles][split]") {
+    const double vs = 0.1;
+    VoxelMap map(vs, 0.3f);
+    writeScene(map, Vec3d(0.03, 0.4, 0.02), 1.1, 0.0, 40);
+    TilingConfig config;
+    config.tile_size_m = 2.4;  // 24 voxels: 3 leaves, cut into 1 + 2
+    config.halo_m = 0.5;
+    config.occluder_margin_m = 1.0;
+    const TileGrid grid(config, vs, 1);
+    REQUIRE(grid.tileVoxels() == 24);
+    std::size_t pieces_seen = 0;
+    for (const Tile& tile : grid.tilesOf(map)) {
+        INFO("tile " << tile.name());
+        REQUIRE(grid.canSplit(tile));
+        const std::vector<Tile> pieces = grid.split(tile);
+        REQUIRE(pieces.size() == 4);
+        const auto mesh = extractMeshRegion(map, MarchingCubesConfig{}, tile.region);
+        const auto core = facesOf(*mesh, true);
+        std::multiset<Face> union_core;
+        std::int64_t area = 0;
+        for (std::size_t k = 0; k < pieces.size(); ++k) {
+            const Tile& p = pieces[k];
+            CHECK(p.ix == tile.ix);
+            CHECK(p.iy == tile.iy);
+            CHECK(p.piece == std::to_string(k));
+            CHECK(p.name() == tile.name() + "." + std::to_string(k));
+            CHECK(p.region.halo_vox == tile.region.halo_vox);
+            CHECK(p.occluder_region.halo_vox == tile.occluder_region.halo_vox);
+            for (int a = 0; a < 2; ++a) {
+                CHECK(p.region.core_min[a] % 8 == 0);  // whole leaves
+                CHECK(p.region.core_max[a] % 8 == 0);
+                CHECK(p.region.core_min[a] >= tile.region.core_min[a]);
+                CHECK(p.region.core_max[a] <= tile.region.core_max[a]);
+                CHECK(p.occluder_region.core_min[a] == p.region.core_min[a]);
+                const int axis = grid.groundAxis(a);
+                CHECK(p.core_W.min_W[axis] == Approx(p.region.core_min[a] * vs));
+                CHECK(p.halo_W.min_W[axis] == Approx(p.core_W.min_W[axis] - grid.haloM()));
+                CHECK(p.halo_W.max_W[axis] == Approx(p.core_W.max_W[axis] + grid.haloM()));
+            }
+            area += std::int64_t(p.region.core_max[0] - p.region.core_min[0]) *
+                    (p.region.core_max[1] - p.region.core_min[1]);
+            const auto piece_mesh = extractMeshRegion(map, MarchingCubesConfig{}, p.region);
+            const auto piece_core = facesOf(*piece_mesh, true);
+            union_core.insert(piece_core.begin(), piece_core.end());
+            pieces_seen += piece_core.empty() ? 0 : 1;
+        }
+        CHECK(area == 24 * 24);  // the cores partition the tile's
+        CHECK(union_core == core);
+        // A piece of a piece: its path names both cuts.
+        const std::vector<Tile> inner = grid.split(pieces[3]);  // 16 x 16 voxels: 4 pieces
+        REQUIRE(inner.size() == 4);
+        CHECK(inner[2].name() == tile.name() + ".3.2");
+        CHECK_FALSE(grid.canSplit(inner[0]));  // one leaf wide
+    }
+    CHECK(pieces_seen > 4);
+}

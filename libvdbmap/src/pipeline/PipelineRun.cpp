@@ -508,7 +508,7 @@ private:
         std::vector<FinishedTile> tiles;
         for (const TileOutcome& o : outcomes) tiles.push_back({o.name, o.ix, o.iy});
         std::sort(tiles.begin(), tiles.end(), [](const FinishedTile& a, const FinishedTile& b) {
-            return std::tie(a.iy, a.ix) < std::tie(b.iy, b.ix);
+            return std::tie(a.iy, a.ix, a.name) < std::tie(b.iy, b.ix, b.name);
         });
         for (PipelineStage& ps : p_.stages) {
             current_ = std::string(ps.stage->name());

@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <map>
 #include <system_error>
 #include <tuple>
 
@@ -57,6 +58,31 @@ std::vector<std::string> filesBelow(const fs::path& dir, const fs::path& base) {
 std::size_t coreFaceCount(const Context& ctx) {
     const std::vector<std::uint8_t> halo = ctx.haloFaces();
     return static_cast<std::size_t>(std::count(halo.begin(), halo.end(), 0));
+}
+
+/// report.json: each planned tile that was worked in pieces gets, in "tiling.plan", its
+/// `split_estimate_bytes` (the estimated peak that exceeded the budget) and `pieces` (those
+/// with faces); "tiling.split_tiles" counts them.
+void reportSplits(const nlohmann::json& report_tiles, Report& report) {
+    std::map<std::string, std::pair<std::size_t, std::vector<std::string>>> split;
+    for (const auto& [name, tile] : report_tiles.items()) {
+        if (!tile.contains("piece_of")) continue;
+        auto& entry = split[tile["piece_of"].get<std::string>()];
+        entry.first = tile["split_estimates_bytes"].at(0).get<std::size_t>();
+        entry.second.push_back(name);
+    }
+    report.set({"tiling", "split_tiles"}, split.size());
+    if (split.empty()) return;
+    const std::string plan_text = report.getJson({"tiling", "plan"});
+    nlohmann::json plan = plan_text.empty() || plan_text == "null" ? nlohmann::json::array()
+                                                                   : nlohmann::json::parse(plan_text);
+    for (auto& planned : plan) {
+        const auto it = split.find(planned.value("name", ""));
+        if (it == split.end()) continue;
+        planned["split_estimate_bytes"] = it->second.first;
+        planned["pieces"] = it->second.second;
+    }
+    if (!plan.empty()) report.setJson({"tiling", "plan"}, plan.dump());
 }
 
 }  // namespace
@@ -162,7 +188,7 @@ TileOutcome TileRun::finishStages(std::string& current) {
     const double seconds = timer_.elapsedSeconds();
     const double cpu_seconds = processCpuTimeS() - cpu_before_;
     const nlohmann::json stage_figures = nlohmann::json::parse(report_.getJson({"stages"}));
-    const nlohmann::json index = {{"name", tile.name()},
+    nlohmann::json index = {{"name", tile.name()},
                  {"ix", tile.ix},
                  {"iy", tile.iy},
                  {"bounds_W", boxJson(tile.core_W)},
@@ -183,6 +209,13 @@ TileOutcome TileRun::finishStages(std::string& current) {
                              {"cpu_time_s", cpu_seconds},
                              {"memory_estimate_bytes", estimate},
                              {"stages", stage_figures}};
+    if (!tile.piece.empty()) {
+        // A piece of a tile over the memory budget (TileStream::splits): which, and why.
+        index["piece"] = tile.piece;
+        report["piece_of"] = std::to_string(tile.ix) + "_" + std::to_string(tile.iy);
+        report["piece"] = tile.piece;
+        report["split_estimates_bytes"] = tile.split_estimates_bytes;
+    }
     if (memory_window_) {
         // One tile at a time: the window is this tile's alone.
         const std::size_t peak = windowPeakMemoryBytes();
@@ -207,9 +240,10 @@ TileOutcome runTile(std::vector<PipelineStage>& stages, std::size_t first,
 
 std::string tilesIndex(std::vector<TileOutcome> outcomes, const TileSummary& summary,
                        const TileGrid& grid, const TilingConfig& tiling, Report& report) {
-    // The index does not depend on the order tiles were finished in (or on which process).
+    // The index does not depend on the order tiles were finished in (or on which process);
+    // the pieces of a split tile share its (ix, iy) and are ordered by name.
     std::sort(outcomes.begin(), outcomes.end(), [](const TileOutcome& a, const TileOutcome& b) {
-        return std::tie(a.iy, a.ix) < std::tie(b.iy, b.ix);
+        return std::tie(a.iy, a.ix, a.name) < std::tie(b.iy, b.ix, b.name);
     });
     nlohmann::json index_tiles = nlohmann::json::array();
     nlohmann::json report_tiles = nlohmann::json::object();
@@ -233,6 +267,7 @@ std::string tilesIndex(std::vector<TileOutcome> outcomes, const TileSummary& sum
         index_tiles.push_back(nlohmann::json::parse(outcome.index_json));
     }
     report.setJson({"tiles"}, report_tiles.dump());
+    reportSplits(report_tiles, report);
     report.set({"tiling", "tiles"}, index_tiles.size());
     report.set({"tiling", "tiles_without_faces"}, summary.without_faces);
     report.set({"tiling", "planned_tiles"}, summary.planned);

@@ -4,7 +4,10 @@
 #include "pipeline/RunJournal.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <string>
+#include <system_error>
+#include <vector>
 
 #include "vdbmap/core/Log.h"
 #include "vdbmap/core/Timer.h"
@@ -14,11 +17,16 @@
 #include "vdbmap/pipeline/ProcessGroup.h"
 
 namespace vdbmap::detail {
+namespace fs = std::filesystem;
 
 TileStream::TileStream(const Setup& setup) : setup_(setup) {
     if (setup_.max_in_flight > 1) {
+        // The map grows while tiles are in flight (from the first launch to the last on a
+        // streamed run): the budget counts its growth on top of the last sample.
+        const Context* ctx = setup_.ctx;
         tasks_ = std::make_unique<TileTasks>(setup_.max_in_flight, setup_.memory_budget_bytes,
-                                             [] { return currentRssBytes(); });
+                                             [] { return currentRssBytes(); },
+                                             [ctx] { return ctx->map().tsdfMemoryBytes(); });
     }
 }
 
@@ -50,6 +58,10 @@ std::string TileStream::inFlightJson() const {
         j["tasks"] = f.tasks;
         j["launches_waited"] = f.waits;
         j["launch_wait_s"] = f.wait_s;
+        j["memory_without_tiles_bytes"] = f.base_samples;
+        // [rss, allocator bytes in use, allocator free bytes, estimates in flight, memory
+        // without tiles counted] per launch.
+        j["memory_at_launch_bytes"] = f.at_launch;
     } else {
         j["most_tiles_in_flight"] = outcomes_.empty() && without_faces_ == 0 ? 0 : 1;
     }
@@ -198,27 +210,59 @@ void TileStream::finish(const PlannedTile& planned, long after_frame) {
     // core does not exist.
     if (!grid_->fitToMap(*tile, ctx.map())) {
         ++without_leaves_;
-        if (setup_.tile_seconds) *setup_.tile_seconds += timer.elapsedSeconds();
-        return;
+    } else {
+        finishTile(std::move(tile), after_frame);
     }
+    if (setup_.tile_seconds) *setup_.tile_seconds += timer.elapsedSeconds();
+}
+
+bool TileStream::splits(const Tile& tile, std::size_t estimate) const {
+    // Only a budget above the estimate's fixed part can be met by smaller pieces.
+    return estimate > setup_.memory_budget_bytes &&
+           setup_.memory_budget_bytes > estimateTilePeakBytes(0, 0, 0) && grid_->canSplit(tile);
+}
+
+void TileStream::finishTile(std::shared_ptr<Tile> tile, long after_frame) {
+    Context& ctx = *setup_.ctx;
     if (ctx.hasDataset()) {
         TileGrid::assignViews(*tile, views_, setup_.tiling->max_view_distance_m);
     }
     const nlohmann::json inputs =
         setup_.journal || setup_.previous ? tileInputs(setup_.config_hash, *tile) : nlohmann::json();
-    if (setup_.previous && keep(*tile, inputs)) {
-        if (setup_.tile_seconds) *setup_.tile_seconds += timer.elapsedSeconds();
-        return;
-    }
+    const std::size_t decisions = decisions_.size();
+    if (setup_.previous && keep(*tile, inputs)) return;
     const std::size_t async_from = tasks_ ? setup_.async_from : setup_.stages->size();
     auto run = std::make_shared<TileRun>(*setup_.stages, setup_.first, async_from, *setup_.output,
                                          ctx, std::shared_ptr<const Tile>(tile), after_frame,
                                          !tasks_);
     run->runMapStages(*setup_.current);
     const std::size_t estimate = run->estimateBytes();
+    if (splits(*tile, estimate)) {
+        // Over the budget alone: the tile is worked in pieces instead, each meshed again on
+        // its own core with the same halo rule (issue 37). The decision depends only on the
+        // tile's mesh, views and the budget, never on what else is in flight.
+        run.reset();  // its mesh and occluder mesh
+        std::error_code ec;
+        fs::remove_all(setup_.ctx->outputDir() / "tiles" / tile->name(), ec);
+        decisions_.resize(decisions);  // the pieces are kept or redone, not the tile
+        logInfo("tile " + tile->name() + ": estimated peak " + std::to_string(estimate >> 20) +
+                " MiB over the budget of " + std::to_string(setup_.memory_budget_bytes >> 20) +
+                " MiB: worked in pieces");
+        for (Tile& piece : grid_->split(*tile)) {
+            piece.split_estimates_bytes = tile->split_estimates_bytes;
+            piece.split_estimates_bytes.push_back(estimate);
+            auto p = std::make_shared<Tile>(std::move(piece));
+            if (!grid_->fitToMap(*p, ctx.map())) continue;  // no observed leaf in its core
+            finishTile(std::move(p), after_frame);
+        }
+        return;
+    }
     largest_estimate_ = std::max(largest_estimate_, estimate);
+    removeEarlierPieces(tile->name());
     if (!tasks_) {
         completed(run->finish(*setup_.current), inputs);
+        run.reset();
+        releaseFreedMemory();
     } else {
         tasksCall([&] {
             tasks_->launch(estimate, [this, run, inputs](std::string& at) {
@@ -227,7 +271,20 @@ void TileStream::finish(const PlannedTile& planned, long after_frame) {
             });
         });
     }
-    if (setup_.tile_seconds) *setup_.tile_seconds += timer.elapsedSeconds();
+}
+
+void TileStream::removeEarlierPieces(const std::string& name) const {
+    // An earlier run in this folder (a resume with a larger budget) may have worked the tile
+    // in pieces: their folders would stay beside the whole tile's, in no index.
+    const fs::path tiles = setup_.ctx->outputDir() / "tiles";
+    std::error_code ec;
+    if (!fs::is_directory(tiles, ec)) return;
+    const std::string prefix = name + ".";
+    std::vector<fs::path> pieces;
+    for (fs::directory_iterator it(tiles, ec), end; !ec && it != end; it.increment(ec)) {
+        if (it->path().filename().string().rfind(prefix, 0) == 0) pieces.push_back(it->path());
+    }
+    for (const fs::path& p : pieces) fs::remove_all(p, ec);
 }
 
 void TileStream::completed(TileOutcome outcome, const nlohmann::json& inputs) {

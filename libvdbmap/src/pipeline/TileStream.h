@@ -184,6 +184,16 @@ public:
 
 private:
     void finish(const PlannedTile& planned, long after_frame);
+    /// Runs a fitted tile (or piece): kept from the journal, or meshed, then either its other
+    /// stages run (in a task with tiles in flight) or, its estimated peak over the budget, it
+    /// is split into pieces, each finished the same way.
+    void finishTile(std::shared_ptr<Tile> tile, long after_frame);
+    /// Whether a tile with this estimated peak is worked in pieces: the estimate exceeds the
+    /// memory budget, the budget exceeds the estimate's fixed part, and the tile can be cut.
+    bool splits(const Tile& tile, std::size_t estimate) const;
+    /// Removes the folders tiles/<name>.* that an earlier run in the output folder left when
+    /// it worked the tile in pieces (a resume whose budget no longer splits it).
+    void removeEarlierPieces(const std::string& name) const;
     /// report.json "tiling.plan": every planned tile's process, cost estimate and its features.
     void reportPlan();
     /// A distributed resume: the tiles given to the processes again, those the journal will

@@ -2,7 +2,12 @@
 #include "pipeline/TileTasks.h"
 
 #include <algorithm>
+#include <cstdlib>
+#include <cstring>
 #include <fstream>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 #include <memory>
 #include <string>
 
@@ -11,9 +16,10 @@
 namespace vdbmap::detail {
 
 TileTasks::TileTasks(std::size_t max_in_flight, std::size_t budget_bytes,
-                     std::function<std::size_t()> base_bytes)
+                     std::function<std::size_t()> base_bytes,
+                     std::function<std::size_t()> growth_bytes)
     : max_in_flight_(std::max<std::size_t>(1, max_in_flight)), budget_bytes_(budget_bytes),
-      base_bytes_(std::move(base_bytes)) {}
+      base_bytes_(std::move(base_bytes)), growth_bytes_(std::move(growth_bytes)) {}
 
 TileTasks::~TileTasks() { abandon(); }
 
@@ -39,7 +45,11 @@ void TileTasks::launch(std::size_t estimate_bytes, std::function<void(std::strin
     std::unique_lock<std::mutex> lock(mutex_);
     joinFinished();
     rethrowIfFailed(lock);
-    if (in_flight_ == 0) base_ = base_bytes_ ? base_bytes_() : 0;
+    if (in_flight_ == 0) {
+        sampleBase();
+    } else {
+        updateBase();
+    }
     auto fits = [&] {
         if (failure_) return true;
         if (in_flight_ == 0) return true;  // one tile always runs, whatever its estimate
@@ -52,7 +62,11 @@ void TileTasks::launch(std::size_t estimate_bytes, std::function<void(std::strin
         figures_.wait_s += waited.elapsedSeconds();
         joinFinished();
         rethrowIfFailed(lock);
-        if (in_flight_ == 0) base_ = base_bytes_ ? base_bytes_() : 0;
+        if (in_flight_ == 0) sampleBase();
+    }
+    {
+        const std::array<std::size_t, 2> heap = allocatorBytes();
+        figures_.at_launch.push_back({currentRssBytes(), heap[0], heap[1], estimates_, base_});
     }
     ++in_flight_;
     estimates_ += estimate_bytes;
@@ -71,6 +85,7 @@ void TileTasks::launch(std::size_t estimate_bytes, std::function<void(std::strin
         } catch (...) {
             error = std::current_exception();
         }
+        releaseFreedMemory();  // the tile's mesh, views and images are freed by now
         std::lock_guard<std::mutex> done_lock(mutex_);
         if (error && !failure_) {
             failure_ = error;
@@ -81,6 +96,18 @@ void TileTasks::launch(std::size_t estimate_bytes, std::function<void(std::strin
         estimates_ -= raw->estimate;
         changed_.notify_all();
     });
+}
+
+void TileTasks::sampleBase() {
+    base_sample_ = base_bytes_ ? base_bytes_() : 0;
+    growth_at_sample_ = growth_bytes_ ? growth_bytes_() : 0;
+    base_ = base_sample_;
+    figures_.base_samples.push_back(base_);
+}
+
+void TileTasks::updateBase() {
+    const std::size_t growth = growth_bytes_ ? growth_bytes_() : 0;
+    base_ = base_sample_ + (growth > growth_at_sample_ ? growth - growth_at_sample_ : 0);
 }
 
 void TileTasks::poll() {
@@ -124,6 +151,25 @@ std::size_t procKb(const char* file, const std::string& key) {
     return 0;
 }
 }  // namespace
+
+void releaseFreedMemory() {
+#if defined(__GLIBC__)
+    static const bool off = [] {
+        const char* v = std::getenv("VDBMAP_MALLOC_TRIM");
+        return v != nullptr && std::strcmp(v, "0") == 0;
+    }();
+    if (!off) ::malloc_trim(0);
+#endif
+}
+
+std::array<std::size_t, 2> allocatorBytes() {
+#if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 33))
+    const struct mallinfo2 m = ::mallinfo2();
+    return {m.uordblks + m.hblkhd, m.fordblks};
+#else
+    return {0, 0};
+#endif
+}
 
 std::size_t currentRssBytes() { return procKb("/proc/self/status", "VmRSS:"); }
 

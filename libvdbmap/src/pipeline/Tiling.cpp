@@ -68,7 +68,9 @@ void TilingConfig::declareOptions(OptionSpec& spec) {
     spec.add("memory_budget_gb",
              "Memory the tiles in flight are kept within: a tile starts only while the memory "
              "of the process without tiles plus the estimated peaks of the tiles in flight fit "
-             "the budget (one tile always runs); 0 = half of MemAvailable at the start",
+             "the budget (one tile always runs); a tile whose estimate alone exceeds it is "
+             "worked in pieces (its core cut in halves, each with the same halo; the same "
+             "outputs for the same budget); 0 = half of MemAvailable at the start",
              memory_budget_gb, 0.0, "GiB");
 }
 
@@ -163,6 +165,56 @@ Tile TileGrid::tile(int ix, int iy) const {
         t.halo_W.max_W[axes_[k]] = t.core_W.max_W[axes_[k]] + h;
     }
     return t;
+}
+
+bool TileGrid::canSplit(const Tile& t) const {
+    for (int k = 0; k < 2; ++k) {
+        if (t.region.core_max[k] - t.region.core_min[k] >= 2 * kLeafVoxels) return true;
+    }
+    return false;
+}
+
+std::vector<Tile> TileGrid::split(const Tile& t) const {
+    // The cuts along each ground axis: the core's ends, and its middle leaf edge if it holds
+    // two leaves or more.
+    std::vector<std::int32_t> cuts[2];
+    for (int k = 0; k < 2; ++k) {
+        const std::int32_t lo = t.region.core_min[k], hi = t.region.core_max[k];
+        const std::int32_t leaves = (hi - lo) / kLeafVoxels;
+        cuts[k] = leaves >= 2 ? std::vector<std::int32_t>{lo, lo + (leaves / 2) * kLeafVoxels, hi}
+                              : std::vector<std::int32_t>{lo, hi};
+    }
+    std::vector<Tile> pieces;
+    const double vs = voxel_size_m_;
+    const double h = halo_vox_ * vs;
+    for (std::size_t j = 0; j + 1 < cuts[1].size(); ++j) {
+        for (std::size_t i = 0; i + 1 < cuts[0].size(); ++i) {
+            Tile p;
+            p.ix = t.ix;
+            p.iy = t.iy;
+            p.voxel_size_m = t.voxel_size_m;
+            p.up_axis = t.up_axis;
+            p.max_view_distance_m = t.max_view_distance_m;
+            p.scan_frames = t.scan_frames;
+            p.region = t.region;
+            p.region.core_min[0] = cuts[0][i];
+            p.region.core_max[0] = cuts[0][i + 1];
+            p.region.core_min[1] = cuts[1][j];
+            p.region.core_max[1] = cuts[1][j + 1];
+            p.occluder_region = p.region;
+            p.occluder_region.halo_vox = t.occluder_region.halo_vox;
+            for (int k = 0; k < 2; ++k) {
+                p.core_W.min_W[axes_[k]] = p.region.core_min[k] * vs;
+                p.core_W.max_W[axes_[k]] = p.region.core_max[k] * vs;
+                p.halo_W.min_W[axes_[k]] = p.core_W.min_W[axes_[k]] - h;
+                p.halo_W.max_W[axes_[k]] = p.core_W.max_W[axes_[k]] + h;
+            }
+            const std::size_t index = j * (cuts[0].size() - 1) + i;
+            p.piece = (t.piece.empty() ? "" : t.piece + ".") + std::to_string(index);
+            pieces.push_back(std::move(p));
+        }
+    }
+    return pieces;
 }
 
 bool TileGrid::fitToMap(Tile& t, const VoxelMap& map) const {

@@ -9,6 +9,8 @@
 //  - parents simplify: faces fall by 2x or more per level, their texel size doubles;
 //  - tiling.merge writes no run-level GLB beside the tiles';
 //  - untiled: one leaf, the same exactness;
+//  - a tile worked in pieces (a memory budget below its estimate): each piece is a leaf, the
+//    pieces of a tile below one parent, the rules above hold;
 //  - a run killed after two tiles leaves no tileset.json; --resume ends with the uninterrupted
 //    run's tileset.json and GLBs byte for byte;
 //  - a latitude of 91 is a configuration error (exit 2) naming the key and the value.
@@ -16,12 +18,14 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstring>
 #include <fstream>
 #include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <random>
+#include <set>
 #include <sstream>
 
 #include "Bake.h"
@@ -276,6 +280,79 @@ TEST_CASE("A tiled run's tileset follows the 3D Tiles rules; leaves are the sema
     // drive_path.json: one position per frame.
     const json path = json::parse(readBytes(base / "drive_path.json"));
     CHECK(path["positions_W"].size() == 8);
+}
+
+TEST_CASE("A tile worked in pieces: each piece a leaf below its tile's parent, the rules hold",
+          "[tiles3d][run][split]") {
+    // A budget just below the largest tile's estimate (tiling.memory_budget_gb, issue 37): that
+    // tile is worked in pieces, tiles/<ix>_<iy>.<piece>/, which share the tile's (ix, iy).
+    const fs::path reference = tiledRun();
+    const json reference_report = json::parse(readBytes(reference / "report.json"));
+    std::size_t largest = 0;
+    for (const auto& [name, tile] : reference_report["tiles"].items()) {
+        largest = std::max(largest, tile["memory_estimate_bytes"].get<std::size_t>());
+    }
+    REQUIRE(largest > (64u << 20) + (512u << 10));  // the budget above the estimate's fixed part
+    const std::size_t budget_bytes = largest - (512u << 10);
+    std::ostringstream budget;
+    budget.precision(12);
+    budget << ", memory_budget_gb: " << static_cast<double>(budget_bytes) / (1024.0 * 1024.0 * 1024.0);
+    const fs::path out = workDir() / ("split." + std::to_string(::getpid()));
+    fs::remove_all(out);
+    const Run r = run(config("split", true, "", budget.str()), out);
+    INFO(r.log);
+    REQUIRE(r.code == 0);
+    const json report = json::parse(readBytes(out / "report.json"));
+    REQUIRE(report["tiling"]["split_tiles"].get<std::size_t>() >= 1);
+
+    const fs::path base = out / "3dtiles";
+    const json tileset = json::parse(readBytes(base / "tileset.json"));
+    std::map<std::string, const json*> parent_of;  // leaf folder -> its parent in the tileset
+    visit(tileset["root"], nullptr, [&](const json& tile, const json* parent) {
+        CHECK(tile.value("refine", "") == "REPLACE");
+        const Bounds box = boxBounds(tile);
+        if (parent) {
+            CHECK(boxBounds(*parent).contains(box, 1e-6));
+            CHECK(tile["geometricError"].get<double>() < (*parent)["geometricError"].get<double>());
+        }
+        if (tile.contains("content")) {
+            const fs::path file = base / tile["content"]["uri"].get<std::string>();
+            REQUIRE(fs::exists(file));
+            CHECK(box.contains(boundsW(readGlb(readBytes(file), file.string())), 1e-4));
+        }
+        if (!tile.contains("children")) {
+            REQUIRE(tile.contains("content"));
+            const std::string uri = tile["content"]["uri"];  // ../tiles/<name>/3dtiles/tile.glb
+            const std::string name = fs::path(uri).parent_path().parent_path().filename().string();
+            CHECK(parent_of.emplace(name, parent).second);  // each leaf once
+        }
+    });
+    // Every tile folder is a leaf (a piece's too), with its semantic mesh exactly; the pieces of
+    // a tile hang below one parent, as the tile did.
+    std::size_t tile_dirs = 0, pieces = 0;
+    std::map<std::string, std::set<const json*>> parents_of_tile;
+    for (const auto& e : fs::directory_iterator(out / "tiles")) {
+        ++tile_dirs;
+        const std::string name = e.path().filename().string();
+        INFO(name);
+        REQUIRE(parent_of.count(name) == 1);
+        const std::size_t dot = name.find('.');
+        if (dot != std::string::npos) {
+            ++pieces;
+            parents_of_tile[name.substr(0, dot)].insert(parent_of[name]);
+            CHECK_FALSE(fs::exists(out / "tiles" / name.substr(0, dot)));  // not also whole
+        }
+        if (fs::exists(e.path() / "semantic" / "mesh.ply")) {
+            requireSameFaces(e.path() / "3dtiles" / "tile.glb", e.path() / "semantic" / "mesh.ply");
+        }
+    }
+    CHECK(parent_of.size() == tile_dirs);
+    CHECK(pieces >= 2);
+    for (const auto& [tile, parents] : parents_of_tile) {
+        INFO(tile);
+        CHECK(parents.size() == 1);
+    }
+    fs::remove_all(out);
 }
 
 TEST_CASE("Parents simplify: faces fall by at least 2x per level, texels grow 2x per level",

@@ -38,7 +38,8 @@ struct TilingConfig {
     std::int64_t max_tiles_in_flight = 0;
     /// Memory (GiB) the run keeps its tiles in flight within: a tile starts only while the
     /// process's memory without tiles plus the estimated peaks of the tiles in flight fit
-    /// (one tile always runs); 0 = auto (half of MemAvailable at the start of the run).
+    /// (one tile always runs); 0 = auto (half of MemAvailable at the start of the run). A
+    /// tile whose estimate alone exceeds it is worked in pieces (TileGrid::split).
     double memory_budget_gb = 0.0;
 
     bool enabled() const { return tile_size_m > 0.0; }
@@ -70,9 +71,18 @@ struct Tile {
     /// Frames whose scans may change the map around the tile (its occluder region), ascending;
     /// empty when the run was not planned from the poses (TileGrid::tilesOf).
     std::vector<std::size_t> scan_frames;
+    /// A piece of tile (ix, iy) (TileGrid::split: a tile whose estimated peak memory exceeded
+    /// the budget): its path among the pieces, "2" or "2.0" (a piece of piece 2); "" for a
+    /// whole tile.
+    std::string piece;
+    /// The estimated peaks (bytes) of the tile and of the pieces this piece was cut from,
+    /// outermost first; empty for a whole tile.
+    std::vector<std::size_t> split_estimates_bytes;
 
-    /// "<ix>_<iy>", the tile's folder name below tiles/.
-    std::string name() const { return std::to_string(ix) + "_" + std::to_string(iy); }
+    /// "<ix>_<iy>", the tile's folder name below tiles/; a piece's is "<ix>_<iy>.<piece>".
+    std::string name() const {
+        return std::to_string(ix) + "_" + std::to_string(iy) + (piece.empty() ? "" : "." + piece);
+    }
     /// Distinct frames among the views.
     std::size_t numFrames() const;
 };
@@ -102,6 +112,14 @@ public:
     /// Sets the tile's bounds along the up axis from the leaves of `map` over its halo region
     /// (the region its mesh comes from). Returns whether its core holds an observed leaf.
     bool fitToMap(Tile& tile, const VoxelMap& map) const;
+    /// Whether split() can cut the tile: its core is at least two voxel leaves wide along a
+    /// ground axis.
+    bool canSplit(const Tile& tile) const;
+    /// The tile's core cut in halves (whole leaves) along each ground axis that is at least two
+    /// leaves wide: 2 or 4 pieces, in (y, x) order, each with the tile's halo and occluder
+    /// margin around its own core (the same halo rule as a tile), its scan frames, no views,
+    /// bounds along the up axis empty until fitToMap. The pieces' cores partition the tile's.
+    std::vector<Tile> split(const Tile& tile) const;
     /// Tiles holding at least one observed leaf of `map`, fitted to it, views not assigned.
     std::vector<Tile> tilesOf(const VoxelMap& map) const;
     /// Assigns to each tile every view of the dataset (frame x camera) whose frustum meets
