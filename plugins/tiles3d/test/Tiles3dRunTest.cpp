@@ -212,6 +212,22 @@ void visit(const json& tile, const json* parent, const std::function<void(const 
     }
 }
 
+/// The 3D Tiles rules every tile of our tilesets keeps: REPLACE refinement, inside its parent's
+/// box with a smaller geometric error, and its content (if any) inside its own box.
+void checkTileRules(const json& tile, const json* parent, const fs::path& base) {
+    CHECK(tile.value("refine", "") == "REPLACE");
+    const Bounds box = boxBounds(tile);
+    if (parent) {
+        CHECK(boxBounds(*parent).contains(box, 1e-6));
+        CHECK(tile["geometricError"].get<double>() < (*parent)["geometricError"].get<double>());
+    }
+    if (tile.contains("content")) {
+        const fs::path file = base / tile["content"]["uri"].get<std::string>();
+        REQUIRE(fs::exists(file));
+        CHECK(box.contains(boundsW(readGlb(readBytes(file), file.string())), 1e-4));
+    }
+}
+
 /// The leaves' triangles below `tile`.
 void leafTriangles(const json& tile, const fs::path& base, std::vector<Triangle>& out) {
     if (!tile.contains("children") && tile.contains("content")) {
@@ -240,18 +256,7 @@ TEST_CASE("A tiled run's tileset follows the 3D Tiles rules; leaves are the sema
     CHECK(m[4 * 2 + 2] == 0.0);
     std::size_t leaves = 0, parents = 0;
     visit(root, nullptr, [&](const json& tile, const json* parent) {
-        CHECK(tile.value("refine", "") == "REPLACE");
-        const Bounds box = boxBounds(tile);
-        if (parent) {
-            CHECK(boxBounds(*parent).contains(box, 1e-6));
-            CHECK(tile["geometricError"].get<double>() < (*parent)["geometricError"].get<double>());
-        }
-        if (tile.contains("content")) {
-            const fs::path file = base / tile["content"]["uri"].get<std::string>();
-            REQUIRE(fs::exists(file));
-            const TileMesh m = readGlb(readBytes(file), file.string());
-            CHECK(box.contains(boundsW(m), 1e-4));
-        }
+        checkTileRules(tile, parent, base);
         if (!tile.contains("children")) {
             ++leaves;
             CHECK(tile["geometricError"].get<double>() == 0.0);
@@ -309,17 +314,7 @@ TEST_CASE("A tile worked in pieces: each piece a leaf below its tile's parent, t
     const json tileset = json::parse(readBytes(base / "tileset.json"));
     std::map<std::string, const json*> parent_of;  // leaf folder -> its parent in the tileset
     visit(tileset["root"], nullptr, [&](const json& tile, const json* parent) {
-        CHECK(tile.value("refine", "") == "REPLACE");
-        const Bounds box = boxBounds(tile);
-        if (parent) {
-            CHECK(boxBounds(*parent).contains(box, 1e-6));
-            CHECK(tile["geometricError"].get<double>() < (*parent)["geometricError"].get<double>());
-        }
-        if (tile.contains("content")) {
-            const fs::path file = base / tile["content"]["uri"].get<std::string>();
-            REQUIRE(fs::exists(file));
-            CHECK(box.contains(boundsW(readGlb(readBytes(file), file.string())), 1e-4));
-        }
+        checkTileRules(tile, parent, base);
         if (!tile.contains("children")) {
             REQUIRE(tile.contains("content"));
             const std::string uri = tile["content"]["uri"];  // ../tiles/<name>/3dtiles/tile.glb
