@@ -178,7 +178,7 @@ std::vector<ViewHit> visibleFaces(const FaceGeometry& g, const CellGrid& grid, c
             bool inside = true;
             for (int i = 0; i < 3 && inside; ++i) {
                 const Vec3d p_C = view.T_C_W * g.corners_W[f][i].cast<double>();
-                Vec2d px;
+                Vec2d px = Vec2d::Zero();  // read below even when a depth test fails
                 inside = p_C.z() >= options.min_depth_m && p_C.z() <= options.max_depth_m &&
                          view.intrinsics.project(p_C, px) && view.intrinsics.inside(px);
                 obs.pixels[i] = px.cast<float>();
