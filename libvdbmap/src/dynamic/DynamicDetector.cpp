@@ -145,36 +145,34 @@ void DynamicDetector::neighbours(std::size_t frame, std::vector<std::size_t>& fi
     others.clear();
     const long r = static_cast<long>(rank_.at(frame));
     const long n = static_cast<long>(order_.size());
-    // The first pass: the kFirstPass furthest in time that exist, and the two furthest of a
-    // side none of them is on. Near the start or the end of a drive the furthest scans all
-    // lie on one side, and a car driving ahead of the sensor hides its own places from every
-    // earlier scan: only the later ones see through them.
-    std::size_t on_side[2] = {0, 0};  // first-pass scans before and after this one
-    std::vector<std::size_t> rest[2];
+    // The window's scans that exist, in the order of the offsets (the furthest first), and
+    // which side of this scan each lies on.
+    std::vector<std::size_t> frames;
+    std::vector<int> side_of;
     for (const int o : offsets_) {
         const long q = r + o;
         if (q < 0 || q >= n) continue;
-        const int side = o > 0 ? 1 : 0;
-        if (first.size() < kFirstPass) {
-            first.push_back(order_[static_cast<std::size_t>(q)]);
-            ++on_side[side];
-        } else {
-            rest[side].push_back(order_[static_cast<std::size_t>(q)]);
-        }
+        frames.push_back(order_[static_cast<std::size_t>(q)]);
+        side_of.push_back(o > 0 ? 1 : 0);
+    }
+    // The first pass: the kFirstPass furthest, and the two furthest of a side none of them is
+    // on. Near the start or the end of a drive the furthest scans all lie on one side, and a
+    // car driving ahead of the sensor hides its own places from every earlier scan: only the
+    // later ones see through them. The second pass: the rest, in the same order.
+    std::vector<char> in_first(frames.size(), 0);
+    int on_side[2] = {0, 0};
+    for (std::size_t k = 0; k < std::min(kFirstPass, frames.size()); ++k) {
+        in_first[k] = 1;
+        ++on_side[side_of[k]];
     }
     for (int side = 0; side < 2; ++side) {
-        const std::size_t extra = on_side[side] == 0 ? std::min<std::size_t>(2, rest[side].size()) : 0;
-        first.insert(first.end(), rest[side].begin(), rest[side].begin() + static_cast<long>(extra));
-        rest[side].erase(rest[side].begin(), rest[side].begin() + static_cast<long>(extra));
+        for (std::size_t k = 0, added = 0; on_side[side] == 0 && added < 2 && k < frames.size(); ++k) {
+            if (side_of[k] != side || in_first[k]) continue;
+            in_first[k] = 1;
+            ++added;
+        }
     }
-    // The second pass: the rest, in the order of the offsets.
-    for (const int o : offsets_) {
-        const long q = r + o;
-        if (q < 0 || q >= n) continue;
-        const std::size_t f = order_[static_cast<std::size_t>(q)];
-        const auto& side = rest[o > 0 ? 1 : 0];
-        if (std::find(side.begin(), side.end(), f) != side.end()) others.push_back(f);
-    }
+    for (std::size_t k = 0; k < frames.size(); ++k) (in_first[k] ? first : others).push_back(frames[k]);
 }
 
 const RangeImage& DynamicDetector::image(std::size_t frame) {

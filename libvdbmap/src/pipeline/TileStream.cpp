@@ -258,7 +258,7 @@ void TileStream::finishTile(std::shared_ptr<Tile> tile, long after_frame) {
         return;
     }
     largest_estimate_ = std::max(largest_estimate_, estimate);
-    removeEarlierPieces(tile->name());
+    if (setup_.previous) removeEarlierPieces(tile->name());
     if (!tasks_) {
         completed(run->finish(*setup_.current), inputs);
         run.reset();

@@ -191,8 +191,8 @@ private:
     /// Whether a tile with this estimated peak is worked in pieces: the estimate exceeds the
     /// memory budget, the budget exceeds the estimate's fixed part, and the tile can be cut.
     bool splits(const Tile& tile, std::size_t estimate) const;
-    /// Removes the folders tiles/<name>.* that an earlier run in the output folder left when
-    /// it worked the tile in pieces (a resume whose budget no longer splits it).
+    /// Removes the folders tiles/<name>.* that the run being resumed left when it worked the
+    /// tile in pieces (a resume whose budget no longer splits it); called on resumes only.
     void removeEarlierPieces(const std::string& name) const;
     /// report.json "tiling.plan": every planned tile's process, cost estimate and its features.
     void reportPlan();
