@@ -6,12 +6,14 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <numeric>
 #include <set>
 #include <sstream>
 
 #include "vdbmap/Error.h"
 #include "vdbmap/core/Timer.h"
+#include "vdbmap/dynamic/JoinedObjects.h"
 #include "vdbmap/io/Dataset.h"
 #include "vdbmap/io/LidarLabels.h"
 
@@ -24,6 +26,46 @@ namespace {
     std::ostringstream os;
     os << who << ": option 'dynamic_" << key << "' must be " << what << ", got " << value;
     throw ConfigError(os.str());
+}
+
+/// Step 6 of the object level (docs/dynamic.md, "Joined objects"): in each object flagged in
+/// `joined`, the points not `kept` connected through such points to a point inside a box of
+/// `boxes` (grown by `voxel_m`) or to a point already `dynamic` become dynamic. Returns how many.
+std::size_t takeJoinedMovers(const std::vector<Vec3f>& points_L, const ScanObjects& objects,
+                             const std::vector<std::uint8_t>& joined, const std::vector<TrackBox>& boxes,
+                             const Isometry3d& T_W_L, double voxel_m, const std::function<bool(std::size_t)>& kept,
+                             std::vector<std::uint8_t>& dynamic) {
+    std::vector<std::vector<std::size_t>> members(objects.clusters.size());
+    for (std::size_t i = 0; i < points_L.size(); ++i) {
+        const std::int32_t c = objects.cluster[i];
+        if (c >= 0 && joined[static_cast<std::size_t>(c)]) members[static_cast<std::size_t>(c)].push_back(i);
+    }
+    auto inABox = [&](std::size_t i) {
+        const Vec3d p = T_W_L * points_L[i].cast<double>();
+        for (const TrackBox& b : boxes) {
+            if ((p.array() >= b.min_W.array() - voxel_m).all() && (p.array() <= b.max_W.array() + voxel_m).all()) return true;
+        }
+        return false;
+    };
+    std::size_t taken = 0;
+    for (const std::vector<std::size_t>& object : members) {
+        if (object.empty()) continue;
+        std::vector<std::uint8_t> seed(object.size()), static_evidence(object.size());
+        for (std::size_t m = 0; m < object.size(); ++m) {
+            const std::size_t i = object[m];
+            static_evidence[m] = !dynamic[i] && kept(i);
+            seed[m] = dynamic[i] || (!static_evidence[m] && inABox(i));
+        }
+        const std::vector<std::uint8_t> mover =
+            moverOfJoined(points_L, object, seed, static_evidence, static_cast<float>(voxel_m));
+        for (std::size_t m = 0; m < object.size(); ++m) {
+            const std::size_t i = object[m];
+            if (!mover[m] || dynamic[i]) continue;
+            dynamic[i] = 1;
+            ++taken;
+        }
+    }
+    return taken;
 }
 
 }  // namespace
@@ -81,6 +123,9 @@ void validateDynamicRemovalConfig(const DynamicRemovalConfig& c, const std::stri
     if (!std::isfinite(c.tracks.part_gate_m)) bad(who, "track_part_gate_m", "finite", c.tracks.part_gate_m);
     if (!(c.tracks.part_max_extent_m >= 0.0) || !std::isfinite(c.tracks.part_max_extent_m)) {
         bad(who, "track_part_extent_m", "finite and >= 0", c.tracks.part_max_extent_m);
+    }
+    if (!(c.tracks.static_share >= 0.0) || !std::isfinite(c.tracks.static_share)) {
+        bad(who, "track_static_share", "finite and >= 0", c.tracks.static_share);
     }
     if (c.tracks.min_confirmations < 1) bad(who, "track_min_confirmations", ">= 1", c.tracks.min_confirmations);
     if (c.object_keep_hits < 0) bad(who, "object_keep_hits", ">= 0", c.object_keep_hits);
@@ -272,7 +317,7 @@ void DynamicDetector::replayHistory(std::size_t rank) {
         dataset_.loadScan(frame, cloud, nullptr, &index);
         std::vector<PointVotes> votes;
         const std::vector<std::uint8_t> free = freeSpace(frame, cloud.points, votes);
-        objects_[q] = findScanObjects(cloud.points, free, dataset_.frame(frame).T_W_L, config_.objects).clusters;
+        objects_[q] = objectsOf(frame, cloud.points, free, votes).clusters;
         ++stats_.scans_replayed;
     }
 }
@@ -297,18 +342,33 @@ std::vector<PointVotes> DynamicDetector::windowVotes(std::size_t frame,
     return votes;
 }
 
+ScanObjects DynamicDetector::objectsOf(std::size_t frame, const std::vector<Vec3f>& points_L,
+                                       const std::vector<std::uint8_t>& dynamic,
+                                       const std::vector<PointVotes>& votes) const {
+    ScanObjects objects = findScanObjects(points_L, dynamic, dataset_.frame(frame).T_W_L, config_.objects);
+    for (std::size_t i = 0; i < points_L.size(); ++i) {
+        const std::int32_t c = objects.cluster[i];
+        const PointVotes& v = votes[i];
+        if (c >= 0 && !dynamic[i] && v.free == 0 && v.hit - v.thin >= std::max(1, config_.object_keep_hits)) {
+            ++objects.clusters[static_cast<std::size_t>(c)].static_points;
+        }
+    }
+    return objects;
+}
+
 void DynamicDetector::objectLevel(std::size_t frame, const std::vector<Vec3f>& points_L,
-                                  std::vector<std::uint8_t>& dynamic) {
+                                  const std::vector<PointVotes>& point_votes, std::vector<std::uint8_t>& dynamic) {
     // 1. This scan's objects, and which are moving: by their own points, or as the
     //    continuation of a moving track over the scans before.
     const std::size_t r = rank_.at(frame);
     replayHistory(r);
-    const ScanObjects objects = findScanObjects(points_L, dynamic, dataset_.frame(frame).T_W_L, config_.objects);
+    const ScanObjects objects = objectsOf(frame, points_L, dynamic, point_votes);
     objects_[r] = objects.clusters;
     std::vector<const std::vector<ScanCluster>*> window;
     for (auto it = objects_.begin(); it != objects_.end() && it->first <= r; ++it) window.push_back(&it->second);
     std::vector<TrackBox> boxes;
-    const std::vector<std::uint8_t> moving = movingObjects(window, config_.tracks, &boxes);
+    std::vector<std::uint8_t> joined;
+    const std::vector<std::uint8_t> moving = movingObjects(window, config_.tracks, &boxes, &joined);
     stats_.objects += objects.clusters.size();
     stats_.objects_moving += static_cast<std::size_t>(std::count(moving.begin(), moving.end(), 1));
 
@@ -372,7 +432,8 @@ void DynamicDetector::objectLevel(std::size_t frame, const std::vector<Vec3f>& p
     std::vector<std::size_t> continued;
     for (const std::size_t i : candidates) {
         const std::int32_t c = objects.cluster[i];
-        if (c >= 0 && moving[static_cast<std::size_t>(c)] && !objects.clusters[static_cast<std::size_t>(c)].confirmed) {
+        if (c >= 0 && moving[static_cast<std::size_t>(c)] && !objects.clusters[static_cast<std::size_t>(c)].confirmed &&
+            !joined[static_cast<std::size_t>(c)]) {
             continued.push_back(i);
         }
     }
@@ -388,7 +449,9 @@ void DynamicDetector::objectLevel(std::size_t frame, const std::vector<Vec3f>& p
     //    one at a kerb) go, without a check per point: the sides of a vehicle slide along their
     //    own planes, so the scans just before hit some of them. But an object whose points in
     //    the boxes are mostly kept by static evidence is a static one the box's margin brushes
-    //    (a parked car a moving one passes): those stay.
+    //    (a parked car a moving one passes): those stay. Unless the object moves by its own
+    //    points: then its points inside a box go, and those in the margin unless kept (a van
+    //    crossing sideways is its long side, which slides along itself: most of it is hit).
     if (!boxes.empty()) {
         const Isometry3d& T_W_L = dataset_.frame(frame).T_W_L;
         const double grow = config_.objects.voxel_m;
@@ -406,31 +469,46 @@ void DynamicDetector::objectLevel(std::size_t frame, const std::vector<Vec3f>& p
             }
         }
         std::vector<std::size_t> in_box;
+        std::vector<std::uint8_t> inner(points_L.size(), 0);
         for (std::size_t i = 0; i < points_L.size(); ++i) {
             if (dynamic[i] || objects.cluster[i] < 0 || staysWhole(i)) continue;
+            if (joined[static_cast<std::size_t>(objects.cluster[i])]) continue;
             const std::vector<std::uint32_t>& near_boxes = boxes_of[static_cast<std::size_t>(objects.cluster[i])];
             if (near_boxes.empty()) continue;
             const Vec3d p = T_W_L * points_L[i].cast<double>();
             for (const std::uint32_t k : near_boxes) {
                 const TrackBox& b = boxes[k];
                 if ((p.array() >= b.min_W.array() - grow).all() && (p.array() <= b.max_W.array() + grow).all()) {
-                    in_box.push_back(i);
-                    break;
+                    if (in_box.empty() || in_box.back() != i) in_box.push_back(i);
+                    if ((p.array() >= b.min_W.array()).all() && (p.array() <= b.max_W.array()).all()) {
+                        inner[i] = 1;
+                        break;
+                    }
                 }
             }
         }
         askVotes(in_box);
         const std::vector<std::uint8_t> brushed = mostlyKept(in_box);
         for (const std::size_t i : in_box) {
-            if (brushed[static_cast<std::size_t>(objects.cluster[i])]) continue;
+            const auto c = static_cast<std::size_t>(objects.cluster[i]);
+            const bool confirmed_goes = objects.clusters[c].confirmed && (inner[i] || !kept(i));
+            if (brushed[c] && !confirmed_goes) continue;
             dynamic[i] = 1;
             ++stats_.points_object;
         }
     }
 
-    // 6. The candidates that static evidence does not keep go.
+    // 6. Joined objects (a mover joined to a static one, larger than its track's object): the
+    //    points not kept that connect, through points not kept, to the track's box or to points
+    //    moving by their own test are the mover's; the rest is the static object's.
+    stats_.points_object += takeJoinedMovers(points_L, objects, joined, boxes, dataset_.frame(frame).T_W_L,
+                                             config_.objects.voxel_m, kept, dynamic);
+
+    // 7. The other candidates that static evidence does not keep go.
     for (const std::size_t i : candidates) {
         if (dynamic[i] || staysWhole(i)) continue;  // in a track's box, or a static object
+        const std::int32_t cj = objects.cluster[i];
+        if (cj >= 0 && joined[static_cast<std::size_t>(cj)]) continue;  // split in 6
         if (kept(i)) {
             ++stats_.points_kept_by_hits;
             continue;
@@ -457,7 +535,7 @@ std::vector<std::uint8_t> DynamicDetector::detect(std::size_t frame,
 
     // Objects: whole objects enough of whose points are moving, and the continuations of the
     // tracks of such objects over the scans before.
-    if (config_.objects.enabled) objectLevel(frame, points_L, dynamic);
+    if (config_.objects.enabled) objectLevel(frame, points_L, votes, dynamic);
 
     // Labels: SemanticKITTI's moving classes.
     if (config_.use_labels) {

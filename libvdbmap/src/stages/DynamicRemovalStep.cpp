@@ -125,8 +125,13 @@ void declareDynamicOptions(OptionSpec& spec, DynamicRemovalConfig& c) {
     spec.add("dynamic_track_min_confirmations",
              "Objects moving by their own points a track needs before it makes others moving",
              c.tracks.min_confirmations, 2);
+    spec.add("dynamic_track_static_share",
+             "An object not moving by its own points of which at least this share is static by "
+             "evidence (hit, never seen through) does not continue a track as its whole object (a "
+             "parked car a van stopped beside is not the van); > 1 = off",
+             c.tracks.static_share, 0.5);
     spec.add("dynamic_track_part_gate_m",
-             "An object no track took, within this of a moving track's box and no larger than its "
+             "An object no moving track took, within this of a moving track's box and no larger than its "
              "object (or than dynamic_track_part_extent_m), is a part of the mover (a car seen "
              "from behind is several objects); < 0 = off",
              c.tracks.part_gate_m, 0.5, "m");

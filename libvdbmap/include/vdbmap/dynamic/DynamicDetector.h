@@ -129,8 +129,11 @@ private:
     void replayHistory(std::size_t rank);
     /// The object level (docs/dynamic.md, "Objects"): adds to `dynamic` the points of moving
     /// objects and of their surroundings that static evidence does not keep.
-    void objectLevel(std::size_t frame, const std::vector<Vec3f>& points_L,
+    void objectLevel(std::size_t frame, const std::vector<Vec3f>& points_L, const std::vector<PointVotes>& votes,
                      std::vector<std::uint8_t>& dynamic);
+    /// The objects of a scan, each with its points static by evidence (`votes`).
+    ScanObjects objectsOf(std::size_t frame, const std::vector<Vec3f>& points_L, const std::vector<std::uint8_t>& dynamic,
+                          const std::vector<PointVotes>& votes) const;
     /// Free and hit votes of the scans of the whole window for the points `points_L[i]`, i in
     /// `which`, of `frame`.
     std::vector<PointVotes> windowVotes(std::size_t frame, const std::vector<Vec3f>& points_L,

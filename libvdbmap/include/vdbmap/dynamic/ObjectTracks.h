@@ -31,6 +31,11 @@ struct ObjectTrackConfig {
     /// to one association continues one of them. part_gate_m < 0 = off.
     double part_gate_m = 0.5;
     double part_max_extent_m = 2.5;
+    /// An object not moving by its own points, of the track's size, of which at least this share
+    /// is static by evidence (ScanCluster::static_points) continues no track: a parked car that
+    /// a van stopped beside is not the van (the nearer centroid took the van's track to it on
+    /// `--seed 4`'s street). Above 1 = off.
+    double static_share = 0.5;
 };
 
 /// Scans of history a decision needs: the tracker runs over the window of the scan and the
@@ -55,12 +60,15 @@ inline int trackHistory(const ObjectTrackConfig& c) { return c.frames > 0 ? c.fr
 ///   larger than its object, are moving too.
 /// `boxes` (may be null) gets the box (W) of each track moving at the last scan, continued or
 /// not (its object joined a static one, or was not seen): what the track predicts the object
-/// occupies.
+/// occupies. `joined` (may be null) gets, per object of the last scan, 1 for an object a moving
+/// track continued that is larger than the track's object (the mover joined to a static one:
+/// DynamicDetector splits it by the static evidence, moverOfJoined).
 struct TrackBox {
     Vec3d min_W, max_W;
 };
 std::vector<std::uint8_t> movingObjects(const std::vector<const std::vector<ScanCluster>*>& window,
                                         const ObjectTrackConfig& config,
-                                        std::vector<TrackBox>* boxes = nullptr);
+                                        std::vector<TrackBox>* boxes = nullptr,
+                                        std::vector<std::uint8_t>* joined = nullptr);
 
 }  // namespace vdbmap

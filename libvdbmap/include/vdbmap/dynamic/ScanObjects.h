@@ -40,6 +40,9 @@ struct ScanCluster {
     Vec3d min_W = Vec3d::Zero(), max_W = Vec3d::Zero();  ///< bounding box in the world frame W
     std::uint32_t points = 0;
     std::uint32_t dynamic_points = 0;  ///< found moving by the free-space test
+    /// Static by evidence: a scan hit them and none saw through them (DynamicDetector fills it
+    /// from the free-space votes; ObjectTrackConfig::static_share).
+    std::uint32_t static_points = 0;
     bool confirmed = false;            ///< moving by its own points (ScanObjectConfig)
     bool compact = false;              ///< horizontal extent within max_extent_m
     float extent_m = 0.0f;             ///< horizontal diagonal of the L bounding box
