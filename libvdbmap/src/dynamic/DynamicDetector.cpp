@@ -28,6 +28,17 @@ namespace {
     throw ConfigError(os.str());
 }
 
+/// Whether `p` (W) lies in the box `b` grown by `grow_m`.
+bool inBox(const Vec3d& p, const TrackBox& b, double grow_m) {
+    return (p.array() >= b.min_W.array() - grow_m).all() && (p.array() <= b.max_W.array() + grow_m).all();
+}
+
+/// Static evidence for a point (docs/dynamic.md, step 5): at least `keep_hits` scans hit it
+/// (thin votes stood behind it: no evidence for it) and none saw through it; 0 = never.
+bool keptByVotes(const PointVotes& v, int keep_hits) {
+    return keep_hits > 0 && v.free == 0 && v.hit - v.thin >= keep_hits;
+}
+
 /// Step 6 of the object level (docs/dynamic.md, "Joined objects"): in each object flagged in
 /// `joined`, the points not `kept` connected through such points to a point inside a box of
 /// `boxes` (grown by `voxel_m`) or to a point already `dynamic` become dynamic. Returns how many.
@@ -35,6 +46,7 @@ std::size_t takeJoinedMovers(const std::vector<Vec3f>& points_L, const ScanObjec
                              const std::vector<std::uint8_t>& joined, const std::vector<TrackBox>& boxes,
                              const Isometry3d& T_W_L, double voxel_m, const std::function<bool(std::size_t)>& kept,
                              std::vector<std::uint8_t>& dynamic) {
+    if (std::find(joined.begin(), joined.end(), 1) == joined.end()) return 0;
     std::vector<std::vector<std::size_t>> members(objects.clusters.size());
     for (std::size_t i = 0; i < points_L.size(); ++i) {
         const std::int32_t c = objects.cluster[i];
@@ -42,10 +54,7 @@ std::size_t takeJoinedMovers(const std::vector<Vec3f>& points_L, const ScanObjec
     }
     auto inABox = [&](std::size_t i) {
         const Vec3d p = T_W_L * points_L[i].cast<double>();
-        for (const TrackBox& b : boxes) {
-            if ((p.array() >= b.min_W.array() - voxel_m).all() && (p.array() <= b.max_W.array() + voxel_m).all()) return true;
-        }
-        return false;
+        return std::any_of(boxes.begin(), boxes.end(), [&](const TrackBox& b) { return inBox(p, b, voxel_m); });
     };
     std::size_t taken = 0;
     for (const std::vector<std::size_t>& object : members) {
@@ -349,7 +358,7 @@ ScanObjects DynamicDetector::objectsOf(std::size_t frame, const std::vector<Vec3
     for (std::size_t i = 0; i < points_L.size(); ++i) {
         const std::int32_t c = objects.cluster[i];
         const PointVotes& v = votes[i];
-        if (c >= 0 && !dynamic[i] && v.free == 0 && v.hit - v.thin >= std::max(1, config_.object_keep_hits)) {
+        if (c >= 0 && !dynamic[i] && keptByVotes(v, config_.object_keep_hits)) {
             ++objects.clusters[static_cast<std::size_t>(c)].static_points;
         }
     }
@@ -407,8 +416,7 @@ void DynamicDetector::objectLevel(std::size_t frame, const std::vector<Vec3f>& p
     };
     auto kept = [&](std::size_t i) {
         if (vote_of[i] < 0) return false;
-        const PointVotes& v = votes[static_cast<std::size_t>(vote_of[i])];
-        return v.free == 0 && v.hit - v.thin >= keep_hits;  // a thin vote stood behind p: no evidence for it
+        return keptByVotes(votes[static_cast<std::size_t>(vote_of[i])], keep_hits);
     };
     // Objects whose points among `which` are mostly kept (object_static_share).
     auto mostlyKept = [&](const std::vector<std::size_t>& which) {
@@ -476,16 +484,12 @@ void DynamicDetector::objectLevel(std::size_t frame, const std::vector<Vec3f>& p
             const std::vector<std::uint32_t>& near_boxes = boxes_of[static_cast<std::size_t>(objects.cluster[i])];
             if (near_boxes.empty()) continue;
             const Vec3d p = T_W_L * points_L[i].cast<double>();
+            bool in_grown = false;
             for (const std::uint32_t k : near_boxes) {
-                const TrackBox& b = boxes[k];
-                if ((p.array() >= b.min_W.array() - grow).all() && (p.array() <= b.max_W.array() + grow).all()) {
-                    if (in_box.empty() || in_box.back() != i) in_box.push_back(i);
-                    if ((p.array() >= b.min_W.array()).all() && (p.array() <= b.max_W.array()).all()) {
-                        inner[i] = 1;
-                        break;
-                    }
-                }
+                in_grown = in_grown || inBox(p, boxes[k], grow);
+                inner[i] = inner[i] || inBox(p, boxes[k], 0.0);
             }
+            if (in_grown) in_box.push_back(i);
         }
         askVotes(in_box);
         const std::vector<std::uint8_t> brushed = mostlyKept(in_box);

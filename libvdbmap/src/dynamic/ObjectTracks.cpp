@@ -133,8 +133,9 @@ std::vector<std::uint8_t> movingObjects(const std::vector<const std::vector<Scan
             Track& tr = tracks[t];
             const ScanCluster& o = objects[i];
             const double steps = static_cast<double>(tr.missed + 1);
-            const bool larger = !sameSize(o.extent_m, tr.extent_m) && o.extent_m > tr.extent_m;
-            if (sameSize(o.extent_m, tr.extent_m)) {
+            const bool same = sameSize(o.extent_m, tr.extent_m);
+            const bool larger = !same && o.extent_m > tr.extent_m;
+            if (same) {
                 // The whole object again: its box moved by the step, and becomes the track's.
                 const Vec3d step = boxStep(tr.min_W, tr.max_W, o.min_W, o.max_W) / steps;
                 tr.velocity = tr.has_velocity ? Vec3d(0.5 * (tr.velocity + step)) : step;

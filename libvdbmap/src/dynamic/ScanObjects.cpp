@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "vdbmap/core/UnionFind.h"
+#include "vdbmap/dynamic/VoxelTable.h"
 
 namespace vdbmap {
 
@@ -75,68 +76,6 @@ std::vector<float> groundHeight(const std::vector<Vec3f>& points_L, const ScanOb
     }
     for (std::size_t i = 0; i < points_L.size(); ++i) height[i] = ground[cell_of[i]];
     return height;
-}
-
-/// Open-addressing hash of voxel keys to voxel indices (a key and its value in one slot: one
-/// cache miss a probe).
-class VoxelTable {
-public:
-    explicit VoxelTable(std::size_t expected) {
-        std::size_t n = 64;  // at least one block of slots (hash)
-        while (n < 2 * expected) n <<= 1;
-        slots_.assign(n, Slot{kEmptyKey, 0});
-        mask_ = n - 1;
-    }
-    /// The index of `key`, inserting `next` if absent (returns it).
-    std::uint32_t insert(std::uint64_t key, std::uint32_t next) {
-        std::size_t h = hash(key);
-        while (slots_[h].key != kEmptyKey) {
-            if (slots_[h].key == key) return slots_[h].value;
-            h = (h + 1) & mask_;
-        }
-        slots_[h] = Slot{key, next};
-        return next;
-    }
-    /// The index of `key` or -1.
-    std::int64_t find(std::uint64_t key) const {
-        std::size_t h = hash(key);
-        while (slots_[h].key != kEmptyKey) {
-            if (slots_[h].key == key) return slots_[h].value;
-            h = (h + 1) & mask_;
-        }
-        return -1;
-    }
-
-private:
-    static constexpr std::uint64_t kEmptyKey = ~std::uint64_t(0);
-    struct Slot {
-        std::uint64_t key;
-        std::uint32_t value;
-    };
-    /// Blocks of 4 x 4 x 4 voxels hash to one run of 64 slots (16 B each), and the voxel's
-    /// place in its block picks the slot: a scan's points, which come in spatial order, probe
-    /// a few cache lines at a time instead of one random line per voxel.
-    std::size_t hash(std::uint64_t k) const {
-        const std::uint64_t m = (std::uint64_t(1) << 21) - 1;
-        const std::uint64_t x = k >> 42, y = (k >> 21) & m, z = k & m;
-        std::uint64_t b = ((x >> 2) << 42) | ((y >> 2) << 21) | (z >> 2);
-        b ^= b >> 33;
-        b *= 0xff51afd7ed558ccdULL;
-        b ^= b >> 33;
-        return static_cast<std::size_t>((b << 6) | ((x & 3) << 4) | ((y & 3) << 2) | (z & 3)) & mask_;
-    }
-    std::vector<Slot> slots_;
-    std::size_t mask_ = 0;
-};
-
-constexpr int kKeyBits = 21;
-constexpr std::int64_t kKeyOffset = std::int64_t(1) << (kKeyBits - 1);
-
-std::uint64_t voxelKey(std::int64_t x, std::int64_t y, std::int64_t z) {
-    const std::uint64_t m = (std::uint64_t(1) << kKeyBits) - 1;
-    return ((static_cast<std::uint64_t>(x + kKeyOffset) & m) << (2 * kKeyBits)) |
-           ((static_cast<std::uint64_t>(y + kKeyOffset) & m) << kKeyBits) |
-           (static_cast<std::uint64_t>(z + kKeyOffset) & m);
 }
 
 }  // namespace
