@@ -206,6 +206,118 @@ TEST_CASE("planTiles: tiles and scan frames are those a scan's reach gives", "[t
     CHECK_THROWS_AS(planTiles(grid, *dataset, options), InvalidInput);
 }
 
+TEST_CASE("planTiles: tiles cut into pieces until the work spreads over split_for_processes",
+          "[tiles]") {
+    // Issue 37: 8 processes on a 100 m street of 51.2 m tiles (a handful of tiles of uneven
+    // work): the costliest tiles are cut into TileGrid::split's pieces, which take their
+    // tile's place in the finish order and share its cost by the frames near their own core.
+    setLogLevel(LogLevel::Warn);
+    const fs::path dir = fs::path(VDBMAP_BINARY_DIR) / "test_scratch" / "tile_plan" / "seq_long";
+    test::writeSimStreet(dir, 50, 100.0);
+    DatasetConfig config;
+    config.path = dir.string();
+    const auto dataset = Dataset::open(config);
+    TilingConfig tiling;
+    tiling.tile_size_m = 51.2;
+    tiling.halo_m = 1.0;
+    tiling.occluder_margin_m = 3.0;
+    const int up = TileGrid::resolveUpAxis(tiling, dataset.get());
+    const TileGrid grid(tiling, 0.1, up);
+    TilePlanOptions options;
+    options.scan_reach_m = 30.0;
+    options.max_view_distance_m = 40.0;
+    options.processes = 8;
+    const TilePlan whole = planTiles(grid, *dataset, options);  // split_for_processes 1: none
+    CHECK(whole.pieces() == 0);
+    for (const PlannedTile& t : whole.tiles) CHECK(t.piece.empty());
+    std::vector<double> whole_costs;
+    for (const PlannedTile& t : whole.tiles) whole_costs.push_back(t.cost);
+    const double total = std::accumulate(whole_costs.begin(), whole_costs.end(), 0.0);
+    const double even = total / 8.0;
+    const double whole_largest = largestPart(whole_costs, partitionContiguous(whole_costs, 8), 8);
+    INFO("tiles " << whole.tiles.size() << ", largest " << whole_largest << " s, even " << even << " s");
+    REQUIRE(whole_largest > 1.25 * even);  // the tiles alone cannot be spread evenly
+
+    options.split_for_processes = 8;
+    const TilePlan cut = planTiles(grid, *dataset, options);
+    REQUIRE(cut.pieces() > 0);
+    std::vector<double> costs;
+    for (const PlannedTile& t : cut.tiles) costs.push_back(t.cost);
+    const double largest = largestPart(costs, partitionContiguous(costs, 8), 8);
+    CHECK(largest < whole_largest);
+    CHECK(std::accumulate(costs.begin(), costs.end(), 0.0) == Approx(total));
+    // Every process has work now.
+    for (int p = 0; p < 8; ++p) CHECK(cut.tilesOf(p) > 0);
+    // Pieces are not cut again; each cut makes the grain finer (no piece keeps more than 0.8
+    // of its tile's cost).
+    for (const PlannedTile& t : cut.tiles) {
+        CHECK(t.piece.find('.') == std::string::npos);
+        if (t.piece.empty()) continue;
+        const PlannedTile* w = whole.find(t.ix, t.iy);
+        REQUIRE(w != nullptr);
+        CHECK(t.cost <= 0.8 * w->cost * (1.0 + 1e-9));
+    }
+
+    // Each whole tile is there whole or as consecutive pieces whose cores partition its core,
+    // with its frames, finish frame and cost (shared by the pieces' own weighted frames).
+    const int a0 = grid.groundAxis(0), a1 = grid.groundAxis(1);
+    std::size_t at = 0;
+    for (const PlannedTile& w : whole.tiles) {
+        REQUIRE(at < cut.tiles.size());
+        double area = 0.0, cost = 0.0;
+        const Tile wt = grid.tile(w.ix, w.iy);
+        const std::size_t first = at;
+        while (at < cut.tiles.size() && cut.tiles[at].ix == w.ix && cut.tiles[at].iy == w.iy) {
+            const PlannedTile& p = cut.tiles[at++];
+            INFO(p.name());
+            CHECK(p.scan_frames == w.scan_frames);
+            CHECK(p.finish_frame == w.finish_frame);
+            const Tile pt = grid.piece(p.ix, p.iy, p.piece);
+            CHECK(pt.name() == p.name());
+            for (int k = 0; k < 2; ++k) {
+                CHECK(pt.region.core_min[k] >= wt.region.core_min[k]);
+                CHECK(pt.region.core_max[k] <= wt.region.core_max[k]);
+                CHECK(pt.region.core_min[k] % 8 == 0);
+            }
+            area += double(pt.region.core_max[0] - pt.region.core_min[0]) *
+                    double(pt.region.core_max[1] - pt.region.core_min[1]);
+            cost += p.cost;
+            // Oracle for the piece's weighted frames: the frames near its own core.
+            double weighted = 0.0;
+            for (std::size_t f : p.scan_frames) {
+                const Eigen::Vector3d o = dataset->frame(f).T_W_L.translation();
+                const double d = groundDistance(o[a0], o[a1], pt.core_W.min_W[a0], pt.core_W.min_W[a1],
+                                                pt.core_W.max_W[a0], pt.core_W.max_W[a1]);
+                weighted += std::exp(-d * d / (2.0 * 20.0 * 20.0));
+            }
+            CHECK(p.weighted_frames == Approx(weighted));
+        }
+        REQUIRE(at > first);
+        CHECK(area == Approx(double(wt.region.core_max[0] - wt.region.core_min[0]) *
+                             double(wt.region.core_max[1] - wt.region.core_min[1])));
+        CHECK(cost == Approx(w.cost));
+    }
+    CHECK(at == cut.tiles.size());
+
+    // The pieces depend on split_for_processes alone: a one-process plan makes the same ones.
+    options.processes = 1;
+    const TilePlan single = planTiles(grid, *dataset, options);
+    REQUIRE(single.tiles.size() == cut.tiles.size());
+    for (std::size_t i = 0; i < cut.tiles.size(); ++i) {
+        CHECK(single.tiles[i].name() == cut.tiles[i].name());
+        CHECK(single.tiles[i].process == 0);
+    }
+    // The first piece of a tile stands for it (its process owns the tile's map leaves).
+    for (const PlannedTile& t : cut.tiles) CHECK(cut.find(t.ix, t.iy)->piece <= t.piece);
+
+    // A path split() does not make.
+    const PlannedTile& any = cut.tiles.front();
+    CHECK_THROWS_AS(grid.piece(any.ix, any.iy, "4"), InvalidInput);
+    CHECK_THROWS_AS(grid.piece(any.ix, any.iy, "x"), InvalidInput);
+    CHECK_THROWS_AS(grid.piece(any.ix, any.iy, "0."), InvalidInput);
+    CHECK(grid.piece(any.ix, any.iy, "").name() == grid.tile(any.ix, any.iy).name());
+}
+
 TEST_CASE("PointRegion: a process keeps the points within reach of its tiles' regions", "[tiles]") {
     // 64 m tiles at 0.1 m, occluder margin 30 m: a tile needs its core grown by 30.1 m (the
     // occluder voxels and one); the region adds the update reach (5 m) and one leaf (0.8 m).

@@ -66,7 +66,7 @@ std::size_t coreFaceCount(const Context& ctx) {
 void reportSplits(const nlohmann::json& report_tiles, Report& report) {
     std::map<std::string, std::pair<std::size_t, std::vector<std::string>>> split;
     for (const auto& [name, tile] : report_tiles.items()) {
-        if (!tile.contains("piece_of")) continue;
+        if (!tile.contains("split_estimates_bytes")) continue;  // not over the budget
         auto& entry = split[tile["piece_of"].get<std::string>()];
         entry.first = tile["split_estimates_bytes"].at(0).get<std::size_t>();
         entry.second.push_back(name);
@@ -210,11 +210,14 @@ TileOutcome TileRun::finishStages(std::string& current) {
                              {"memory_estimate_bytes", estimate},
                              {"stages", stage_figures}};
     if (!tile.piece.empty()) {
-        // A piece of a tile over the memory budget (TileStream::splits): which, and why.
+        // A piece of a tile over the memory budget (TileStream::splits: the estimates that
+        // exceeded it) or cut for balance by the plan (TilePlanOptions::split_for_processes).
         index["piece"] = tile.piece;
         report["piece_of"] = std::to_string(tile.ix) + "_" + std::to_string(tile.iy);
         report["piece"] = tile.piece;
-        report["split_estimates_bytes"] = tile.split_estimates_bytes;
+        if (!tile.split_estimates_bytes.empty()) {
+            report["split_estimates_bytes"] = tile.split_estimates_bytes;
+        }
     }
     if (memory_window_) {
         // One tile at a time: the window is this tile's alone.

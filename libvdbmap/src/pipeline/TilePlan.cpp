@@ -2,6 +2,7 @@
 #include "vdbmap/pipeline/TilePlan.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -17,6 +18,19 @@ namespace vdbmap {
 namespace {
 
 constexpr double kCostSigmaM = 20.0;  // a frame's coverage of a tile falls off with its distance
+// Cutting for balance (cutForBalance): stop once the largest process share is within this
+// factor of the even share; never cut a unit below this part of the even share; at most this
+// many levels of halves.
+constexpr double kBalanceSlack = 1.1;
+constexpr double kLeastCutShare = 0.5;
+constexpr int kMaxCutDepth = 1;
+// A cut is kept only if its costliest piece has at most this share of the unit's cost.
+constexpr double kLeastGrainGain = 0.8;
+// A piece's share of its tile's cost: its weighted frames with this steeper falloff. A tile's
+// work is where its faces are, near the drive; the frames' 20 m falloff gave the pieces
+// behind the buildings (no observed leaf, no work) a fifth of a street tile's cost (measured:
+// docs/benchmarks/scale.md, "Tiles cut for balance").
+constexpr double kPieceShareSigmaM = 10.0;
 
 /// A rectangle on the two ground axes, metres.
 struct GroundRect {
@@ -90,6 +104,7 @@ private:
             up_max_ = std::max(up_max_, up);
             double g[2];
             ground(o_W, g);
+            frame_ground_.push_back({g[0], g[1]});
             tilesAround(g, reach, needed_m_, [&](int ix, int iy) {
                 const GroundRect c = core(ix, iy);
                 if (c.grown(needed_m_).distance(g) > reach) return;
@@ -157,11 +172,92 @@ private:
                       return std::tie(a.finish_frame, a.iy, a.ix) <
                              std::tie(b.finish_frame, b.iy, b.ix);
                   });
+        if (options_.split_for_processes > 1) cutForBalance(plan.tiles);
         std::vector<double> costs;
         for (const PlannedTile& t : plan.tiles) costs.push_back(t.cost);
         const std::vector<int> parts = partitionContiguous(costs, options_.processes);
         for (std::size_t i = 0; i < plan.tiles.size(); ++i) plan.tiles[i].process = parts[i];
         return plan;
+    }
+
+    /// Phase 3a (issue 37): when the tiles are too few or too uneven for an even split over
+    /// split_for_processes, the costliest tile (or piece) is cut in pieces, TileGrid::split's
+    /// (the pieces a memory split makes, each with its own halo), one at a time, until the best
+    /// contiguous split's largest share is within kBalanceSlack of the even share, or nothing
+    /// is worth cutting (a unit below
+    /// kLeastCutShare of the even share: its halo and views would cost more than the balance
+    /// gains; one whose work would stay in one piece, kLeastGrainGain; or cut kMaxCutDepth
+    /// times already). The pieces
+    /// take the tile's place in the finish order; each gets the tile's cost in proportion to
+    /// the frames near its own core (weighted with a falloff of kPieceShareSigmaM).
+    void cutForBalance(std::vector<PlannedTile>& units) const {
+        std::vector<Tile> shapes;
+        std::vector<int> depth(units.size(), 0);
+        for (const PlannedTile& u : units) shapes.push_back(grid_.tile(u.ix, u.iy));
+        const int n = options_.split_for_processes;
+        double total = 0.0;
+        for (const PlannedTile& u : units) total += u.cost;
+        const double share = total / n;
+        while (!units.empty()) {
+            // Too uneven still: cut the costliest unit (the coarsest grain of the split).
+            std::vector<double> costs;
+            for (const PlannedTile& u : units) costs.push_back(u.cost);
+            const std::vector<int> parts = partitionContiguous(costs, n);
+            std::vector<double> sums(static_cast<std::size_t>(n), 0.0);
+            for (std::size_t i = 0; i < costs.size(); ++i) sums[static_cast<std::size_t>(parts[i])] += costs[i];
+            const auto largest = std::max_element(sums.begin(), sums.end());
+            if (*largest <= kBalanceSlack * share) break;
+            std::size_t cut = units.size();
+            for (std::size_t i = 0; i < units.size(); ++i) {
+                const bool can = depth[i] < kMaxCutDepth &&
+                                 units[i].cost > kLeastCutShare * share && grid_.canSplit(shapes[i]);
+                if (can && (cut == units.size() || units[i].cost > units[cut].cost)) cut = i;
+            }
+            if (cut == units.size()) break;  // nothing left worth cutting
+            std::vector<Tile> pieces = grid_.split(shapes[cut]);
+            std::vector<PlannedTile> planned;
+            std::vector<double> share_weights;
+            double weights = 0.0;
+            for (const Tile& p : pieces) {
+                PlannedTile q = units[cut];
+                q.piece = p.piece;
+                q.weighted_frames = weightedFrames(p, q.scan_frames, kCostSigmaM);
+                const double w = weightedFrames(p, q.scan_frames, kPieceShareSigmaM);
+                share_weights.push_back(w);
+                weights += w;
+                planned.push_back(std::move(q));
+            }
+            double coarsest = 0.0;
+            for (std::size_t k = 0; k < planned.size(); ++k) {
+                planned[k].cost = weights > 0.0 ? units[cut].cost * share_weights[k] / weights
+                                                : units[cut].cost / static_cast<double>(planned.size());
+                coarsest = std::max(coarsest, planned[k].cost);
+            }
+            if (coarsest > kLeastGrainGain * units[cut].cost) {
+                depth[cut] = kMaxCutDepth;  // its work is in one piece: cutting gains nothing
+                continue;
+            }
+            const auto at = static_cast<std::ptrdiff_t>(cut);
+            const int d = depth[cut] + 1;
+            units.erase(units.begin() + at);
+            shapes.erase(shapes.begin() + at);
+            depth.erase(depth.begin() + at);
+            units.insert(units.begin() + at, planned.begin(), planned.end());
+            shapes.insert(shapes.begin() + at, pieces.begin(), pieces.end());
+            depth.insert(depth.begin() + at, planned.size(), d);
+        }
+    }
+
+    /// Phase 1's coverage weight of `frames` for a piece's core, falling off with `sigma_m`.
+    double weightedFrames(const Tile& piece, const std::vector<std::size_t>& frames, double sigma_m) const {
+        const GroundRect c{{piece.core_W.min_W[grid_.groundAxis(0)], piece.core_W.min_W[grid_.groundAxis(1)]},
+                           {piece.core_W.max_W[grid_.groundAxis(0)], piece.core_W.max_W[grid_.groundAxis(1)]}};
+        double w = 0.0;
+        for (std::size_t f : frames) {
+            const double d = c.distance(frame_ground_[f].data());
+            w += std::exp(-d * d / (2.0 * sigma_m * sigma_m));
+        }
+        return w;
     }
 
     const TileGrid& grid_;
@@ -173,6 +269,7 @@ private:
     double up_max_ = std::numeric_limits<double>::lowest();
     std::map<TileKey, PlannedTile> tiles_;
     std::map<TileKey, bool> reached_core_;
+    std::vector<std::array<double, 2>> frame_ground_;  ///< each frame's sensor on the ground axes
 };
 
 }  // namespace
@@ -196,6 +293,11 @@ const PlannedTile* TilePlan::find(int ix, int iy) const {
     for (const PlannedTile& t : tiles)
         if (t.ix == ix && t.iy == iy) return &t;
     return nullptr;
+}
+
+std::size_t TilePlan::pieces() const {
+    return static_cast<std::size_t>(std::count_if(
+        tiles.begin(), tiles.end(), [](const PlannedTile& t) { return !t.piece.empty(); }));
 }
 
 double tileCostEstimate(double weighted_frames, std::size_t views) {

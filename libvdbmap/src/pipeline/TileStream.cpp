@@ -85,13 +85,23 @@ std::vector<std::size_t> TileStream::begin(const Dataset& dataset, double update
     options.scan_reach_m = dataset.config().max_range_m + update_reach_m;
     options.max_view_distance_m = setup_.tiling->max_view_distance_m;
     options.processes = setup_.processes;
+    options.split_for_processes = static_cast<int>(setup_.tiling->split_for_processes);
     options.stream = setup_.tiling->stream;
     plan_ = planTiles(*grid_, dataset, options);
+    if (setup_.process == 0 && plan_->pieces() > 0) {
+        logInfo("tiling: tiles cut into " + std::to_string(plan_->pieces()) +
+                " pieces to spread their work over " + std::to_string(options.split_for_processes) +
+                " processes (tiling.split_for_processes)");
+    }
     if (setup_.process == 0 && setup_.processes > static_cast<int>(plan_->tiles.size())) {
         logWarn("tiling: " + std::to_string(setup_.processes) + " processes but only " +
                 std::to_string(plan_->tiles.size()) + " tiles within reach of a scan: " +
                 std::to_string(setup_.processes - static_cast<int>(plan_->tiles.size())) +
-                " process(es) get no tile");
+                " process(es) get no tile" +
+                (options.split_for_processes <= 1 ? "; tiling.split_for_processes: " +
+                                                        std::to_string(setup_.processes) +
+                                                        " cuts tiles into pieces for them"
+                                                  : std::string()));
     }
     if (setup_.processes > 1 && setup_.previous && setup_.redo_all_reason.empty()) balanceResume();
     for (const PlannedTile& t : plan_->tiles) {
@@ -134,7 +144,7 @@ std::vector<std::string> TileStream::allGather(const std::string& mine) const {
 void TileStream::reportPlan() {
     nlohmann::json tiles = nlohmann::json::array();
     for (const PlannedTile& t : plan_->tiles) {
-        tiles.push_back({{"name", std::to_string(t.ix) + "_" + std::to_string(t.iy)},
+        tiles.push_back({{"name", t.name()},
                          {"process", t.process},
                          {"cost_estimate_s", t.cost},
                          {"weighted_frames", t.weighted_frames},
@@ -145,6 +155,8 @@ void TileStream::reportPlan() {
                          {"finish_frame", t.finish_frame}});
     }
     setup_.ctx->report().setJson({"tiling", "plan"}, tiles.dump());
+    // Tiles cut into pieces for balance (TilePlan, split_for_processes): the pieces planned.
+    setup_.ctx->report().set({"tiling", "balance_pieces"}, plan_->pieces());
 }
 
 void TileStream::balanceResume() {
@@ -155,7 +167,7 @@ void TileStream::balanceResume() {
     std::vector<double> costs;
     std::size_t likely_kept = 0;
     for (const PlannedTile& t : plan_->tiles) {
-        const auto it = setup_.previous->tiles.find(std::to_string(t.ix) + "_" + std::to_string(t.iy));
+        const auto it = setup_.previous->tiles.find(t.name());
         const bool kept = it != setup_.previous->tiles.end() &&
                           it->second.inputs.value("scan_frames", "") == scanFramesHash(t.scan_frames);
         likely_kept += kept ? 1 : 0;
@@ -203,7 +215,8 @@ void TileStream::finishAll() {
 void TileStream::finish(const PlannedTile& planned, long after_frame) {
     Timer timer;
     Context& ctx = *setup_.ctx;
-    auto tile = std::make_shared<Tile>(grid_->tile(planned.ix, planned.iy));
+    auto tile = std::make_shared<Tile>(grid_->piece(planned.ix, planned.iy, planned.piece));
+    if (!planned.piece.empty() && setup_.previous) removeEarlierWholes(*tile);
     tile->scan_frames = planned.scan_frames;
     tile->max_view_distance_m = setup_.tiling->max_view_distance_m;
     // Tiles are created on demand: a planned tile that no scan gave an observed leaf in its
@@ -285,6 +298,18 @@ void TileStream::removeEarlierPieces(const std::string& name) const {
         if (it->path().filename().string().rfind(prefix, 0) == 0) pieces.push_back(it->path());
     }
     for (const fs::path& p : pieces) fs::remove_all(p, ec);
+}
+
+void TileStream::removeEarlierWholes(const Tile& piece) const {
+    // An earlier run in this folder may have worked the tile (or a piece this one was cut
+    // from) whole: its folder would stay beside this piece's, in no index.
+    const fs::path tiles = setup_.ctx->outputDir() / "tiles";
+    std::string name = piece.name();
+    std::error_code ec;
+    for (std::size_t dot = name.rfind('.'); dot != std::string::npos; dot = name.rfind('.')) {
+        name.resize(dot);
+        fs::remove_all(tiles / name, ec);
+    }
 }
 
 void TileStream::completed(TileOutcome outcome, const nlohmann::json& inputs) {

@@ -194,6 +194,9 @@ private:
     /// Removes the folders tiles/<name>.* that the run being resumed left when it worked the
     /// tile in pieces (a resume whose budget no longer splits it); called on resumes only.
     void removeEarlierPieces(const std::string& name) const;
+    /// Removes the folders of the tile and of the pieces `piece` (a piece cut for balance) was
+    /// cut from, that the run being resumed left when it worked them whole; resumes only.
+    void removeEarlierWholes(const Tile& piece) const;
     /// report.json "tiling.plan": every planned tile's process, cost estimate and its features.
     void reportPlan();
     /// A distributed resume: the tiles given to the processes again, those the journal will

@@ -72,6 +72,12 @@ void TilingConfig::declareOptions(OptionSpec& spec) {
              "worked in pieces (its core cut in halves, each with the same halo; the same "
              "outputs for the same budget); 0 = half of MemAvailable at the start",
              memory_budget_gb, 0.0, "GiB");
+    spec.add("split_for_processes",
+             "Cut the costliest tiles into pieces (halves of their core, each with the same "
+             "halo) until the tiles' estimated work spreads evenly over this many processes: "
+             "set it to the MPI ranks when they outnumber the tiles' work; 0 = never. The "
+             "outputs depend on this value, not on the number of processes that run",
+             split_for_processes, std::int64_t(0));
 }
 
 void TilingConfig::validate(double voxel_size_m, const std::string& where) const {
@@ -93,6 +99,10 @@ void TilingConfig::validate(double voxel_size_m, const std::string& where) const
     }
     if (!std::isfinite(memory_budget_gb) || memory_budget_gb < 0.0) {
         badValue(where, "memory_budget_gb", memory_budget_gb, "must be finite and >= 0 (0 = auto)");
+    }
+    if (split_for_processes < 0) {
+        badValue(where, "split_for_processes", static_cast<double>(split_for_processes),
+                 "must be >= 0 (0 = never cut tiles for balance)");
     }
     if (merge_max_faces < 0) {
         badValue(where, "merge_max_faces", static_cast<double>(merge_max_faces), "must be >= 0");
@@ -215,6 +225,26 @@ std::vector<Tile> TileGrid::split(const Tile& t) const {
         }
     }
     return pieces;
+}
+
+Tile TileGrid::piece(int ix, int iy, const std::string& path) const {
+    Tile t = tile(ix, iy);
+    if (path.empty()) return t;
+    std::size_t at = 0;
+    while (at <= path.size()) {  // "0." ends with an empty index
+        std::size_t end = path.find('.', at);
+        if (end == std::string::npos) end = path.size();
+        const std::string index = path.substr(at, end - at);
+        const std::vector<Tile> pieces = canSplit(t) ? split(t) : std::vector<Tile>();
+        if (index.empty() || index.find_first_not_of("0123456789") != std::string::npos ||
+            index.size() > 1 || std::stoul(index) >= pieces.size()) {
+            throw InvalidInput("tile " + std::to_string(ix) + "_" + std::to_string(iy) +
+                               ": no piece '" + path + "'");
+        }
+        t = pieces[std::stoul(index)];
+        at = end + 1;
+    }
+    return t;
 }
 
 bool TileGrid::fitToMap(Tile& t, const VoxelMap& map) const {

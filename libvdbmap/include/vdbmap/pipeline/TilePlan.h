@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <string>
 #include <vector>
 
 #include "vdbmap/pipeline/Tiling.h"
@@ -18,6 +19,11 @@ struct TilePlanOptions {
     double scan_reach_m = 0.0;
     double max_view_distance_m = 40.0;  ///< TilingConfig::max_view_distance_m
     int processes = 1;                  ///< processes (MPI ranks) to spread the tiles over, >= 1
+    /// Cut the costliest tiles into pieces until the tiles' work spreads evenly over this many
+    /// processes (TilingConfig::split_for_processes); <= 1: no tile is cut for balance. Only
+    /// this number, never `processes`, decides the pieces, so that runs on any number of
+    /// processes with the same value write the same outputs.
+    int split_for_processes = 1;
     /// false: every tile is finished after the last frame (TilingConfig::stream).
     bool stream = true;
 };
@@ -25,6 +31,9 @@ struct TilePlanOptions {
 /// A tile that may exist, planned from the poses alone, before any scan is read.
 struct PlannedTile {
     int ix = 0, iy = 0;
+    /// A piece of tile (ix, iy) cut for balance (TileGrid::split's path, "2" or "2.0"); "" for
+    /// the whole tile. A piece has its tile's scan_frames and finish_frame.
+    std::string piece;
     /// Frames whose scans may change the map within the tile's occluder region (the tile grown
     /// by max(halo, occluder margin) and one voxel), ascending: what the tile needs integrated.
     std::vector<std::size_t> scan_frames;
@@ -41,6 +50,11 @@ struct PlannedTile {
     /// weighted_frames and views).
     double cost = 0.0;
     int process = 0;  ///< the process (MPI rank) that runs it
+
+    /// Tile::name(): "<ix>_<iy>" or "<ix>_<iy>.<piece>".
+    std::string name() const {
+        return std::to_string(ix) + "_" + std::to_string(iy) + (piece.empty() ? "" : "." + piece);
+    }
 };
 
 /// The pose-based plan of a tiled run (issue 13): every tile a scan can reach (those that
@@ -53,15 +67,19 @@ struct TilePlan {
     std::vector<std::size_t> framesOf(int process) const;
     /// Number of tiles of process `process`.
     std::size_t tilesOf(int process) const;
-    /// The planned tile (ix, iy), or nullptr.
+    /// The planned tile (ix, iy), or its first piece (the pieces of a tile are consecutive and
+    /// the first one's process owns the tile's leaves of map.vdb), or nullptr.
     const PlannedTile* find(int ix, int iy) const;
+    /// Pieces cut for balance (split_for_processes).
+    std::size_t pieces() const;
 };
 
 /// Plans the tiles of `grid` for the frames and views of `dataset`. Tiles are given to the
 /// processes as contiguous runs of the finish order (neighbouring tiles share scans, so each
 /// process reads a stretch of the drive), cut so that the largest total cost is smallest.
-/// Deterministic: every process computes the same plan. Throws InvalidInput for a negative or
-/// non-finite reach or processes < 1.
+/// With split_for_processes > 1 the costliest tiles are first cut into pieces (cutForBalance in
+/// TilePlan.cpp). Deterministic: every process computes the same plan. Throws InvalidInput for
+/// a negative or non-finite reach or processes < 1.
 TilePlan planTiles(const TileGrid& grid, const Dataset& dataset, const TilePlanOptions& options);
 
 /// The estimated CPU seconds of a tile's stages (marching cubes, texture, semantic, export)

@@ -36,6 +36,11 @@ struct TilingConfig {
     /// Finished tiles whose stages run side by side (after their marching cubes, in tasks
     /// beside the integration); 0 = auto (the number of threads). Bounded by memory_budget_gb.
     std::int64_t max_tiles_in_flight = 0;
+    /// Cut the costliest tiles into pieces (TileGrid::split) until the tiles' estimated work
+    /// spreads evenly over this many processes (TilePlan); 0 = never. The outputs depend on
+    /// this value, not on the processes that run: a one-process run with the value an MPI run
+    /// used writes the MPI run's outputs.
+    std::int64_t split_for_processes = 0;
     /// Memory (GiB) the run keeps its tiles in flight within: a tile starts only while the
     /// process's memory without tiles plus the estimated peaks of the tiles in flight fit
     /// (one tile always runs); 0 = auto (half of MemAvailable at the start of the run). A
@@ -120,6 +125,9 @@ public:
     /// margin around its own core (the same halo rule as a tile), its scan frames, no views,
     /// bounds along the up axis empty until fitToMap. The pieces' cores partition the tile's.
     std::vector<Tile> split(const Tile& tile) const;
+    /// The piece of tile (ix, iy) at `piece`, a path of split() ("2", "2.0"); the tile itself
+    /// for "". Throws InvalidInput for a path split() does not make.
+    Tile piece(int ix, int iy, const std::string& piece) const;
     /// Tiles holding at least one observed leaf of `map`, fitted to it, views not assigned.
     std::vector<Tile> tilesOf(const VoxelMap& map) const;
     /// Assigns to each tile every view of the dataset (frame x camera) whose frustum meets
