@@ -98,6 +98,22 @@ ChildOptions mpiEnv() {
     return options;
 }
 
+/// Checks that the files below a/tiles and b/tiles are the same, byte for byte; returns how
+/// many of them lie in a piece's folder (`<ix>_<iy>.<piece>/`).
+std::size_t samePieceFiles(const fs::path& a_dir, const fs::path& b_dir) {
+    const auto a = filesBelow(a_dir / "tiles");
+    const auto b = filesBelow(b_dir / "tiles");
+    std::size_t piece_files = 0;
+    CHECK(a.size() == b.size());
+    for (const auto& [file, bytes] : a) {
+        INFO(file);
+        REQUIRE(b.count(file) == 1);
+        CHECK(b.at(file) == bytes);
+        piece_files += file.substr(0, file.find('/')).find('.') != std::string::npos ? 1 : 0;
+    }
+    return piece_files;
+}
+
 std::vector<std::string> mpiArgs(int ranks, const fs::path& config, const fs::path& out) {
     return {"--oversubscribe", "-np", std::to_string(ranks), kMpiExe.string(), "run",
             config.string(), "-o", out.string(), "--quiet"};
@@ -209,17 +225,7 @@ TEST_CASE("A tile worked in pieces under mpirun -np 2: the single-process run's 
     CHECK(report["tiling"]["split_tiles"].get<std::size_t>() >= 1);
     CHECK(report["tiling"]["split_tiles"] ==
           nlohmann::json::parse(readText(single / "report.json"))["tiling"]["split_tiles"]);
-    const auto a = filesBelow(single / "tiles");
-    const auto b = filesBelow(mpi / "tiles");
-    std::size_t piece_files = 0;
-    CHECK(a.size() == b.size());
-    for (const auto& [file, bytes] : a) {
-        INFO(file);
-        REQUIRE(b.count(file) == 1);
-        CHECK(b.at(file) == bytes);
-        piece_files += file.substr(0, file.find('/')).find('.') != std::string::npos ? 1 : 0;
-    }
-    CHECK(piece_files > 0);
+    CHECK(samePieceFiles(single, mpi) > 0);
     CHECK(readText(single / "tiles.json") == readText(mpi / "tiles.json"));
     CHECK(vdbVoxels(single / "map.vdb") == vdbVoxels(mpi / "map.vdb"));
 }
@@ -315,17 +321,7 @@ TEST_CASE("split_for_processes: 7 cuts the few tiles into pieces for 7 ranks, as
     CHECK(planned_pieces == report["tiling"]["balance_pieces"].get<std::size_t>());
     CHECK(ranks.size() == 7);
 
-    const auto a = filesBelow(single / "tiles");
-    const auto b = filesBelow(mpi / "tiles");
-    std::size_t piece_files = 0;
-    CHECK(a.size() == b.size());
-    for (const auto& [file, bytes] : a) {
-        INFO(file);
-        REQUIRE(b.count(file) == 1);
-        CHECK(b.at(file) == bytes);
-        piece_files += file.substr(0, file.find('/')).find('.') != std::string::npos ? 1 : 0;
-    }
-    CHECK(piece_files > 0);
+    CHECK(samePieceFiles(single, mpi) > 0);
     CHECK(readText(single / "tiles.json") == readText(mpi / "tiles.json"));
     // map.vdb: the leaves of a cut tile come from its first piece's rank, which integrated the
     // whole tile's region.
