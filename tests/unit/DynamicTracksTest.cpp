@@ -10,6 +10,7 @@
 
 #include "vdbmap/dynamic/JoinedObjects.h"
 #include "vdbmap/dynamic/ObjectTracks.h"
+#include "vdbmap/dynamic/StaticColumns.h"
 
 using namespace vdbmap;
 
@@ -226,5 +227,59 @@ TEST_CASE("moverOfJoined: the points not kept connected to a seed through points
     // No seed: nothing.
     std::fill(seed.begin(), seed.end(), 0);
     const std::vector<std::uint8_t> none = moverOfJoined(points, members, seed, kept, 0.2f);
+    CHECK(std::count(none.begin(), none.end(), 1) == 0);
+}
+
+TEST_CASE("staticColumns: a thin, tall part of the kept points, apart from the rest", "[dynamic]") {
+    // A van's long side (the plane y = 0, 4 m long, 2 m tall, sampled every 0.05 m) and a pole
+    // (0.12 m square, 1.8 m tall) 0.15 m in front of it, in the sensor frame (z up). The pole's
+    // points are kept; of the side, a 1 m stretch is kept too (a side sliding along itself),
+    // the rest not. Only the pole is a column: the kept stretch is 1 m long, the side's other
+    // points are not kept, and the pole stands apart from the kept stretch (0.15 m: more than
+    // a 0.1 m voxel's neighbourhood).
+    std::vector<Vec3f> points;
+    std::vector<std::uint8_t> kept, pole;
+    for (int i = 0; i <= 80; ++i) {
+        for (int k = 0; k <= 40; ++k) {
+            const float x = 0.05f * static_cast<float>(i), z = 0.05f * static_cast<float>(k);
+            points.emplace_back(x, 0.0f, z);
+            kept.push_back(x >= 1.0f && x <= 2.0f);
+            pole.push_back(0);
+        }
+    }
+    for (int i = 0; i <= 3; ++i) {
+        for (int j = 0; j <= 3; ++j) {
+            for (int k = 0; k <= 36; ++k) {
+                points.emplace_back(1.5f + 0.04f * static_cast<float>(i), -0.15f - 0.04f * static_cast<float>(j),
+                                    0.05f * static_cast<float>(k));
+                kept.push_back(1);
+                pole.push_back(1);
+            }
+        }
+    }
+    std::vector<std::size_t> members(points.size());
+    for (std::size_t m = 0; m < members.size(); ++m) members[m] = m;
+    const std::vector<std::uint8_t> column = staticColumns(points, members, kept, 0.1f, 0.4f, 1.0f);
+    REQUIRE(column.size() == points.size());
+    std::size_t pole_columns = 0, other_columns = 0;
+    for (std::size_t m = 0; m < points.size(); ++m) (pole[m] ? pole_columns : other_columns) += column[m];
+    CHECK(pole_columns == 4u * 4u * 37u);
+    CHECK(other_columns == 0);
+
+    // With 0.2 m voxels the pole touches the kept stretch: one part, 1 m long, no column.
+    const std::vector<std::uint8_t> coarse = staticColumns(points, members, kept, 0.2f, 0.4f, 1.0f);
+    CHECK(std::count(coarse.begin(), coarse.end(), 1) == 0);
+    // A pole shorter than the least height is no column.
+    const std::vector<std::uint8_t> tall = staticColumns(points, members, kept, 0.1f, 0.4f, 2.0f);
+    CHECK(std::count(tall.begin(), tall.end(), 1) == 0);
+    // Only members count: without the pole among them, nothing.
+    std::vector<std::size_t> side;
+    std::vector<std::uint8_t> side_kept;
+    for (std::size_t m = 0; m < points.size(); ++m) {
+        if (pole[m]) continue;
+        side.push_back(m);
+        side_kept.push_back(kept[m]);
+    }
+    const std::vector<std::uint8_t> none = staticColumns(points, side, side_kept, 0.1f, 0.4f, 1.0f);
     CHECK(std::count(none.begin(), none.end(), 1) == 0);
 }

@@ -14,6 +14,7 @@
 #include "vdbmap/Error.h"
 #include "vdbmap/core/Timer.h"
 #include "vdbmap/dynamic/JoinedObjects.h"
+#include "vdbmap/dynamic/StaticColumns.h"
 #include "vdbmap/io/Dataset.h"
 #include "vdbmap/io/LidarLabels.h"
 
@@ -37,6 +38,47 @@ bool inBox(const Vec3d& p, const TrackBox& b, double grow_m) {
 /// (thin votes stood behind it: no evidence for it) and none saw through it; 0 = never.
 bool keptByVotes(const PointVotes& v, int keep_hits) {
     return keep_hits > 0 && v.free == 0 && v.hit - v.thin >= keep_hits;
+}
+
+/// A pole beside a mover's path, joined to the mover while it passes (StaticColumns.h), is no
+/// part of its box: the box of an object moving by its own points is that of its points
+/// outside thin static columns (at most kColumnFootprintM wide, kColumnMinHeightM tall), so
+/// that the track's box does not grow to the pole and step 5 leaves it to static evidence.
+constexpr float kColumnFootprintM = 0.4f;
+constexpr float kColumnMinHeightM = 1.0f;
+constexpr float kColumnVoxelM = 0.1f;  // finer than the objects' voxels: a pole 0.1 m off stays apart
+
+void leaveOutColumns(const std::vector<Vec3f>& points_L, const Isometry3d& T_W_L,
+                     const std::vector<std::uint8_t>& kept, ScanObjects& objects) {
+    std::vector<std::vector<std::size_t>> members(objects.clusters.size());
+    for (std::size_t i = 0; i < points_L.size(); ++i) {
+        const std::int32_t c = objects.cluster[i];
+        if (c < 0) continue;
+        const ScanCluster& sc = objects.clusters[static_cast<std::size_t>(c)];
+        if (sc.confirmed && sc.static_points > 0) members[static_cast<std::size_t>(c)].push_back(i);
+    }
+    for (std::size_t c = 0; c < members.size(); ++c) {
+        if (members[c].empty()) continue;
+        std::vector<std::uint8_t> member_kept(members[c].size());
+        for (std::size_t m = 0; m < members[c].size(); ++m) member_kept[m] = kept[members[c][m]];
+        const std::vector<std::uint8_t> column =
+            staticColumns(points_L, members[c], member_kept, kColumnVoxelM, kColumnFootprintM, kColumnMinHeightM);
+        if (std::find(column.begin(), column.end(), 1) == column.end()) continue;
+        ScanCluster& sc = objects.clusters[c];
+        bool first = true;
+        Vec3d sum = Vec3d::Zero();
+        std::size_t n = 0;
+        for (std::size_t m = 0; m < members[c].size(); ++m) {
+            if (column[m]) continue;
+            const Vec3d p_W = T_W_L * points_L[members[c][m]].cast<double>();
+            sc.min_W = first ? p_W : Vec3d(sc.min_W.cwiseMin(p_W));
+            sc.max_W = first ? p_W : Vec3d(sc.max_W.cwiseMax(p_W));
+            sum += p_W;
+            ++n;
+            first = false;
+        }
+        if (n > 0) sc.centroid_W = sum / static_cast<double>(n);
+    }
 }
 
 /// Step 6 of the object level (docs/dynamic.md, "Joined objects"): in each object flagged in
@@ -354,14 +396,17 @@ std::vector<PointVotes> DynamicDetector::windowVotes(std::size_t frame,
 ScanObjects DynamicDetector::objectsOf(std::size_t frame, const std::vector<Vec3f>& points_L,
                                        const std::vector<std::uint8_t>& dynamic,
                                        const std::vector<PointVotes>& votes) const {
-    ScanObjects objects = findScanObjects(points_L, dynamic, dataset_.frame(frame).T_W_L, config_.objects);
+    const Isometry3d& T_W_L = dataset_.frame(frame).T_W_L;
+    ScanObjects objects = findScanObjects(points_L, dynamic, T_W_L, config_.objects);
+    std::vector<std::uint8_t> kept(points_L.size(), 0);
     for (std::size_t i = 0; i < points_L.size(); ++i) {
         const std::int32_t c = objects.cluster[i];
-        const PointVotes& v = votes[i];
-        if (c >= 0 && !dynamic[i] && keptByVotes(v, config_.object_keep_hits)) {
+        if (c >= 0 && !dynamic[i] && keptByVotes(votes[i], config_.object_keep_hits)) {
+            kept[i] = 1;
             ++objects.clusters[static_cast<std::size_t>(c)].static_points;
         }
     }
+    leaveOutColumns(points_L, T_W_L, kept, objects);
     return objects;
 }
 
