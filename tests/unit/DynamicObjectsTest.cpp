@@ -72,6 +72,22 @@ struct Recall {
     double recall() const { return mover ? static_cast<double>(mover_removed) / static_cast<double>(mover) : 0.0; }
 };
 
+/// The points of frames 0..last (flags from frame 0) that hit `kind`, and how many were removed.
+std::pair<std::size_t, std::size_t> countHits(const Flags& flags, const std::vector<test::DynamicScan>& scans, Hit kind,
+                                              int last) {
+    std::size_t all = 0, removed = 0;
+    for (int f = 0; f <= last; ++f) {
+        const auto& dyn = flags.dynamic[static_cast<std::size_t>(f)];
+        const auto& index = flags.index[static_cast<std::size_t>(f)];
+        for (std::size_t i = 0; i < dyn.size(); ++i) {
+            if (scans[static_cast<std::size_t>(f)].hits[index[i]] != kind) continue;
+            ++all;
+            removed += dyn[i];
+        }
+    }
+    return {all, removed};
+}
+
 Recall count(const Flags& flags, const std::vector<test::DynamicScan>& scans, int first, int from, int to) {
     Recall r;
     for (int f = from; f <= to; ++f) {
@@ -466,16 +482,7 @@ TEST_CASE("A van crossing sideways, away from the sensor, to a parked car: remov
     const int last = o.frames - 1;
     const Flags flags = detectRange(*scene.dataset, config, 0, last);
     const Recall all = count(flags, scene.scans, 0, 0, last);
-    std::size_t parked = 0, parked_removed = 0;
-    for (int f = 0; f <= last; ++f) {
-        const auto& dyn = flags.dynamic[static_cast<std::size_t>(f)];
-        const auto& index = flags.index[static_cast<std::size_t>(f)];
-        for (std::size_t i = 0; i < dyn.size(); ++i) {
-            if (scene.scans[static_cast<std::size_t>(f)].hits[index[i]] != Hit::Parked) continue;
-            ++parked;
-            parked_removed += dyn[i];
-        }
-    }
+    const auto [parked, parked_removed] = countHits(flags, scene.scans, Hit::Parked, last);
     double worst_end = 1.0;
     for (int f = last - 9; f <= last; ++f) worst_end = std::min(worst_end, count(flags, scene.scans, 0, f, f).recall());
     WARN("crossing van: recall " << all.recall() << ", worst of the last 10 frames " << worst_end << ", parked car "
@@ -506,16 +513,7 @@ TEST_CASE("A van driving past a pole 0.15 m beside its path: the pole stays, the
     const int last = o.frames - 1;
     const Flags flags = detectRange(*scene.dataset, config, 0, last);
     const Recall all = count(flags, scene.scans, 0, 0, last);
-    std::size_t pole = 0, pole_removed = 0;
-    for (int f = 0; f <= last; ++f) {
-        const auto& dyn = flags.dynamic[static_cast<std::size_t>(f)];
-        const auto& index = flags.index[static_cast<std::size_t>(f)];
-        for (std::size_t i = 0; i < dyn.size(); ++i) {
-            if (scene.scans[static_cast<std::size_t>(f)].hits[index[i]] != Hit::Pole) continue;
-            ++pole;
-            pole_removed += dyn[i];
-        }
-    }
+    const auto [pole, pole_removed] = countHits(flags, scene.scans, Hit::Pole, last);
     WARN("van past a pole: recall " << all.recall() << ", pole " << pole_removed << " / " << pole << " removed, static "
                                      << all.static_removed << " / " << all.statics);
     REQUIRE(pole > 1000);

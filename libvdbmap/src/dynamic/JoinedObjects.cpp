@@ -41,16 +41,11 @@ std::vector<std::uint8_t> moverOfJoined(const std::vector<Vec3f>& points_L, cons
     while (!frontier.empty()) {
         const std::array<std::int64_t, 3> c = coords[frontier.back()];
         frontier.pop_back();
-        for (int dz = -1; dz <= 1; ++dz) {
-            for (int dy = -1; dy <= 1; ++dy) {
-                for (int dx = -1; dx <= 1; ++dx) {
-                    const std::int64_t id = table.find(voxelKey(c[0] + dx, c[1] + dy, c[2] + dz));
-                    if (id < 0 || open[static_cast<std::size_t>(id)]) continue;
-                    open[static_cast<std::size_t>(id)] = 1;
-                    frontier.push_back(static_cast<std::uint32_t>(id));
-                }
-            }
-        }
+        forEachNeighbour(table, c, [&](std::uint32_t id) {
+            if (open[id]) return;
+            open[id] = 1;
+            frontier.push_back(id);
+        });
     }
     // 3. The members not kept in reached voxels.
     for (std::size_t m = 0; m < members.size(); ++m) reached[m] = !kept[m] && open[voxel[m]];

@@ -39,16 +39,11 @@ std::vector<std::uint8_t> staticColumns(const std::vector<Vec3f>& points_L, cons
         while (!frontier.empty()) {
             const std::array<std::int64_t, 3> c = coords[frontier.back()];
             frontier.pop_back();
-            for (int dz = -1; dz <= 1; ++dz) {
-                for (int dy = -1; dy <= 1; ++dy) {
-                    for (int dx = -1; dx <= 1; ++dx) {
-                        const std::int64_t id = table.find(voxelKey(c[0] + dx, c[1] + dy, c[2] + dz));
-                        if (id < 0 || part[static_cast<std::size_t>(id)] >= 0) continue;
-                        part[static_cast<std::size_t>(id)] = parts;
-                        frontier.push_back(static_cast<std::uint32_t>(id));
-                    }
-                }
-            }
+            forEachNeighbour(table, c, [&](std::uint32_t id) {
+                if (part[id] >= 0) return;
+                part[id] = parts;
+                frontier.push_back(id);
+            });
         }
         ++parts;
     }

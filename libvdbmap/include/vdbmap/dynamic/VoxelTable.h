@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -72,6 +73,20 @@ inline std::uint64_t voxelKey(std::int64_t x, std::int64_t y, std::int64_t z) {
     return ((static_cast<std::uint64_t>(x + kVoxelKeyOffset) & m) << (2 * kVoxelKeyBits)) |
            ((static_cast<std::uint64_t>(y + kVoxelKeyOffset) & m) << kVoxelKeyBits) |
            (static_cast<std::uint64_t>(z + kVoxelKeyOffset) & m);
+}
+
+/// Calls visit(index) for each voxel of `table` in the 26-neighbourhood of the voxel at `c`
+/// (c itself included): the step of a flood over a scan's voxels (JoinedObjects, StaticColumns).
+template <typename Visit>
+void forEachNeighbour(const VoxelTable& table, const std::array<std::int64_t, 3>& c, Visit&& visit) {
+    for (int dz = -1; dz <= 1; ++dz) {
+        for (int dy = -1; dy <= 1; ++dy) {
+            for (int dx = -1; dx <= 1; ++dx) {
+                const std::int64_t id = table.find(voxelKey(c[0] + dx, c[1] + dy, c[2] + dz));
+                if (id >= 0) visit(static_cast<std::uint32_t>(id));
+            }
+        }
+    }
 }
 
 }  // namespace vdbmap
