@@ -98,6 +98,14 @@ ChildOptions mpiEnv() {
     return options;
 }
 
+/// `vdbmap run config -o out --quiet` in one process; it must succeed.
+void runSingle(const fs::path& config, const fs::path& out) {
+    Child one(test::kVdbmapExe, {"run", config.string(), "-o", out.string(), "--quiet"});
+    const int code = one.exitCode();
+    INFO(one.log());
+    REQUIRE(code == 0);
+}
+
 /// Checks that the files below a/tiles and b/tiles are the same, byte for byte; returns how
 /// many of them lie in a piece's folder (`<ix>_<iy>.<piece>/`).
 std::size_t samePieceFiles(const fs::path& a_dir, const fs::path& b_dir) {
@@ -131,10 +139,7 @@ TEST_CASE("mpirun -np 3 writes the tiles, index and map of the single-process ru
     const fs::path single = workDir() / "single", mpi = workDir() / "mpi3";
     fs::remove_all(single);
     fs::remove_all(mpi);
-    Child one(test::kVdbmapExe, {"run", config.string(), "-o", single.string(), "--quiet"});
-    const int one_code = one.exitCode();
-    INFO(one.log());
-    REQUIRE(one_code == 0);
+    runSingle(config, single);
     Child three(VDBMAP_MPIEXEC, mpiArgs(3, config, mpi), mpiEnv());
     INFO(three.log());
     REQUIRE(three.exitCode() == 0);
@@ -213,10 +218,7 @@ TEST_CASE("A tile worked in pieces under mpirun -np 2: the single-process run's 
     std::snprintf(budget, sizeof(budget), ", memory_budget_gb: %.9f",
                   static_cast<double>(largest - (512u << 10)) / (1024.0 * 1024.0 * 1024.0));
     const fs::path config = writeConfig(workDir() / "split.yaml", seq, 12.8, "", budget);
-    Child one(test::kVdbmapExe, {"run", config.string(), "-o", single.string(), "--quiet"});
-    const int one_code = one.exitCode();
-    INFO(one.log());
-    REQUIRE(one_code == 0);
+    runSingle(config, single);
     Child two(VDBMAP_MPIEXEC, mpiArgs(2, config, mpi), mpiEnv());
     INFO(two.log());
     REQUIRE(two.exitCode() == 0);
@@ -270,10 +272,7 @@ TEST_CASE("mpirun with more ranks than tiles warns and still writes every tile",
     const fs::path single = workDir() / "big_single", mpi = workDir() / "big_mpi";
     fs::remove_all(single);
     fs::remove_all(mpi);
-    Child one(test::kVdbmapExe, {"run", config.string(), "-o", single.string(), "--quiet"});
-    const int one_code = one.exitCode();
-    INFO(one.log());
-    REQUIRE(one_code == 0);
+    runSingle(config, single);
     // At most 6 tiles within reach (4 written: the street crosses x = 0 and z = 0).
     Child job(VDBMAP_MPIEXEC, mpiArgs(7, config, mpi), mpiEnv());
     const int code = job.exitCode();
@@ -297,10 +296,7 @@ TEST_CASE("split_for_processes: 7 cuts the few tiles into pieces for 7 ranks, as
     const fs::path single = workDir() / "balance_single", mpi = workDir() / "balance_mpi";
     fs::remove_all(single);
     fs::remove_all(mpi);
-    Child one(test::kVdbmapExe, {"run", config.string(), "-o", single.string(), "--quiet"});
-    const int one_code = one.exitCode();
-    INFO(one.log());
-    REQUIRE(one_code == 0);
+    runSingle(config, single);
     Child job(VDBMAP_MPIEXEC, mpiArgs(7, config, mpi), mpiEnv());
     const int code = job.exitCode();
     INFO(job.log());
@@ -329,9 +325,7 @@ TEST_CASE("split_for_processes: 7 cuts the few tiles into pieces for 7 ranks, as
     // The pieces cover what the whole tiles did: the same faces over all tiles.
     const fs::path whole = workDir() / "balance_whole";
     fs::remove_all(whole);
-    Child uncut(test::kVdbmapExe, {"run", writeConfig(workDir() / "balance_whole.yaml", seq, 64.0).string(),
-                                   "-o", whole.string(), "--quiet"});
-    REQUIRE(uncut.exitCode() == 0);
+    runSingle(writeConfig(workDir() / "balance_whole.yaml", seq, 64.0), whole);
     auto faces = [](const fs::path& index) {
         std::size_t n = 0;
         for (const auto& t : nlohmann::json::parse(readText(index))["tiles"]) {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <memory>
 #include <numeric>
 #include <random>
 #include <set>
@@ -55,6 +56,25 @@ double groundDistance(double g0, double g1, double min0, double min1, double max
     return std::sqrt(d0 * d0 + d1 * d1);
 }
 
+/// The simulated street `name` (frames, size) below test_scratch/tile_plan, written once, opened.
+std::shared_ptr<Dataset> simStreet(const std::string& name, std::size_t frames, double size_m) {
+    setLogLevel(LogLevel::Warn);
+    const fs::path dir = fs::path(VDBMAP_BINARY_DIR) / "test_scratch" / "tile_plan" / name;
+    test::writeSimStreet(dir, frames, size_m);
+    DatasetConfig config;
+    config.path = dir.string();
+    return Dataset::open(config);
+}
+
+/// Tiles of `tile_size_m` with a 1 m halo and a 3 m occluder margin.
+TilingConfig smallMargins(double tile_size_m) {
+    TilingConfig tiling;
+    tiling.tile_size_m = tile_size_m;
+    tiling.halo_m = 1.0;
+    tiling.occluder_margin_m = 3.0;
+    return tiling;
+}
+
 }  // namespace
 
 TEST_CASE("partitionContiguous: the smallest largest part, every process busy", "[tiles]") {
@@ -91,16 +111,8 @@ TEST_CASE("partitionContiguous: the smallest largest part, every process busy", 
 }
 
 TEST_CASE("planTiles: tiles and scan frames are those a scan's reach gives", "[tiles]") {
-    setLogLevel(LogLevel::Warn);
-    const fs::path dir = fs::path(VDBMAP_BINARY_DIR) / "test_scratch" / "tile_plan" / "seq";
-    test::writeSimStreet(dir, 12, 60.0);
-    DatasetConfig config;
-    config.path = dir.string();
-    const auto dataset = Dataset::open(config);
-    TilingConfig tiling;
-    tiling.tile_size_m = 6.4;
-    tiling.halo_m = 1.0;
-    tiling.occluder_margin_m = 3.0;
+    const auto dataset = simStreet("seq", 12, 60.0);
+    const TilingConfig tiling = smallMargins(6.4);
     const int up = TileGrid::resolveUpAxis(tiling, dataset.get());
     CHECK(up == 1);  // KITTI W: y is up-down
     const TileGrid grid(tiling, 0.1, up);
@@ -211,16 +223,8 @@ TEST_CASE("planTiles: tiles cut into pieces until the work spreads over split_fo
     // Issue 37: 8 processes on a 100 m street of 51.2 m tiles (a handful of tiles of uneven
     // work): the costliest tiles are cut into TileGrid::split's pieces, which take their
     // tile's place in the finish order and share its cost by the frames near their own core.
-    setLogLevel(LogLevel::Warn);
-    const fs::path dir = fs::path(VDBMAP_BINARY_DIR) / "test_scratch" / "tile_plan" / "seq_long";
-    test::writeSimStreet(dir, 50, 100.0);
-    DatasetConfig config;
-    config.path = dir.string();
-    const auto dataset = Dataset::open(config);
-    TilingConfig tiling;
-    tiling.tile_size_m = 51.2;
-    tiling.halo_m = 1.0;
-    tiling.occluder_margin_m = 3.0;
+    const auto dataset = simStreet("seq_long", 50, 100.0);
+    const TilingConfig tiling = smallMargins(51.2);
     const int up = TileGrid::resolveUpAxis(tiling, dataset.get());
     const TileGrid grid(tiling, 0.1, up);
     TilePlanOptions options;

@@ -2,7 +2,6 @@
 #include "vdbmap/dynamic/JoinedObjects.h"
 
 #include <array>
-#include <cmath>
 
 #include "vdbmap/dynamic/VoxelTable.h"
 
@@ -22,9 +21,7 @@ std::vector<std::uint8_t> moverOfJoined(const std::vector<Vec3f>& points_L, cons
     for (std::size_t m = 0; m < members.size(); ++m) {
         if (kept[m]) continue;
         const Vec3f& p = points_L[members[m]];
-        const std::array<std::int64_t, 3> v{static_cast<std::int64_t>(std::floor(p.x() * inv)),
-                                            static_cast<std::int64_t>(std::floor(p.y() * inv)),
-                                            static_cast<std::int64_t>(std::floor(p.z() * inv))};
+        const std::array<std::int64_t, 3> v = voxelCoords(p.x(), p.y(), p.z(), inv);
         const auto next = static_cast<std::uint32_t>(coords.size());
         const std::uint32_t id = table.insert(voxelKey(v[0], v[1], v[2]), next);
         if (id == next) {

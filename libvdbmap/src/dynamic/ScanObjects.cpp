@@ -214,11 +214,7 @@ std::vector<std::uint8_t> pointsNearDynamic(const std::vector<Vec3f>& points_L,
                                             int rings, int min_seed_points, int down) {
     std::vector<std::uint8_t> out(points_L.size(), 0);
     const float inv = 1.0f / voxel_m;
-    auto voxelOf = [&](const Vec3f& p) {
-        return std::array<std::int64_t, 3>{static_cast<std::int64_t>(std::floor(p.x() * inv)),
-                                           static_cast<std::int64_t>(std::floor(p.y() * inv)),
-                                           static_cast<std::int64_t>(std::floor(p.z() * inv))};
-    };
+    auto voxelOf = [&](const Vec3f& p) { return voxelCoords(p.x(), p.y(), p.z(), inv); };
     // The voxels holding a dynamic point.
     std::size_t n_dynamic = 0;
     for (const std::uint8_t d : dynamic) n_dynamic += d;

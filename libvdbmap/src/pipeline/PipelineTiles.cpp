@@ -213,7 +213,7 @@ TileOutcome TileRun::finishStages(std::string& current) {
         // A piece of a tile over the memory budget (TileStream::splits: the estimates that
         // exceeded it) or cut for balance by the plan (TilePlanOptions::split_for_processes).
         index["piece"] = tile.piece;
-        report["piece_of"] = std::to_string(tile.ix) + "_" + std::to_string(tile.iy);
+        report["piece_of"] = tileName(tile.ix, tile.iy);
         report["piece"] = tile.piece;
         if (!tile.split_estimates_bytes.empty()) {
             report["split_estimates_bytes"] = tile.split_estimates_bytes;

@@ -19,12 +19,10 @@ namespace {
 
 constexpr double kCostSigmaM = 20.0;  // a frame's coverage of a tile falls off with its distance
 // Cutting for balance (cutForBalance): stop once the largest process share is within this
-// factor of the even share; never cut a unit below this part of the even share; at most this
-// many levels of halves.
+// factor of the even share; never cut a tile below this part of the even share.
 constexpr double kBalanceSlack = 1.1;
 constexpr double kLeastCutShare = 0.5;
-constexpr int kMaxCutDepth = 1;
-// A cut is kept only if its costliest piece has at most this share of the unit's cost.
+// A cut is kept only if its costliest piece has at most this share of the tile's cost.
 constexpr double kLeastGrainGain = 0.8;
 // A piece's share of its tile's cost: its weighted frames with this steeper falloff. A tile's
 // work is where its faces are, near the drive; the frames' 20 m falloff gave the pieces
@@ -181,71 +179,72 @@ private:
     }
 
     /// Phase 3a (issue 37): when the tiles are too few or too uneven for an even split over
-    /// split_for_processes, the costliest tile (or piece) is cut in pieces, TileGrid::split's
-    /// (the pieces a memory split makes, each with its own halo), one at a time, until the best
-    /// contiguous split's largest share is within kBalanceSlack of the even share, or nothing
-    /// is worth cutting (a unit below
-    /// kLeastCutShare of the even share: its halo and views would cost more than the balance
-    /// gains; one whose work would stay in one piece, kLeastGrainGain; or cut kMaxCutDepth
-    /// times already). The pieces
-    /// take the tile's place in the finish order; each gets the tile's cost in proportion to
-    /// the frames near its own core (weighted with a falloff of kPieceShareSigmaM).
+    /// split_for_processes, the costliest tile is cut into TileGrid::split's pieces (the pieces
+    /// a memory split makes, each with its own halo), one tile at a time, until the best
+    /// contiguous split's largest share is within kBalanceSlack of the even share, or no tile
+    /// is worth cutting: one below kLeastCutShare of the even share (its halo and views would
+    /// cost more than the balance gains), or one whose work would stay in one piece
+    /// (kLeastGrainGain). Pieces are not cut again. They take the tile's place in the finish
+    /// order; each gets the tile's cost in proportion to the frames near its own core.
     void cutForBalance(std::vector<PlannedTile>& units) const {
-        std::vector<Tile> shapes;
-        std::vector<int> depth(units.size(), 0);
-        for (const PlannedTile& u : units) shapes.push_back(grid_.tile(u.ix, u.iy));
         const int n = options_.split_for_processes;
         double total = 0.0;
         for (const PlannedTile& u : units) total += u.cost;
         const double share = total / n;
-        while (!units.empty()) {
-            // Too uneven still: cut the costliest unit (the coarsest grain of the split).
-            std::vector<double> costs;
-            for (const PlannedTile& u : units) costs.push_back(u.cost);
-            const std::vector<int> parts = partitionContiguous(costs, n);
-            std::vector<double> sums(static_cast<std::size_t>(n), 0.0);
-            for (std::size_t i = 0; i < costs.size(); ++i) sums[static_cast<std::size_t>(parts[i])] += costs[i];
-            const auto largest = std::max_element(sums.begin(), sums.end());
-            if (*largest <= kBalanceSlack * share) break;
+        std::vector<char> settled(units.size(), 0);  // a piece, or a tile not worth cutting
+        while (!units.empty() && largestShare(units, n) > kBalanceSlack * share) {
             std::size_t cut = units.size();
             for (std::size_t i = 0; i < units.size(); ++i) {
-                const bool can = depth[i] < kMaxCutDepth &&
-                                 units[i].cost > kLeastCutShare * share && grid_.canSplit(shapes[i]);
+                const bool can = !settled[i] && units[i].cost > kLeastCutShare * share;
                 if (can && (cut == units.size() || units[i].cost > units[cut].cost)) cut = i;
             }
             if (cut == units.size()) break;  // nothing left worth cutting
-            std::vector<Tile> pieces = grid_.split(shapes[cut]);
-            std::vector<PlannedTile> planned;
-            std::vector<double> share_weights;
-            double weights = 0.0;
-            for (const Tile& p : pieces) {
-                PlannedTile q = units[cut];
-                q.piece = p.piece;
-                q.weighted_frames = weightedFrames(p, q.scan_frames, kCostSigmaM);
-                const double w = weightedFrames(p, q.scan_frames, kPieceShareSigmaM);
-                share_weights.push_back(w);
-                weights += w;
-                planned.push_back(std::move(q));
-            }
+            const std::vector<PlannedTile> pieces = piecesOf(units[cut]);
             double coarsest = 0.0;
-            for (std::size_t k = 0; k < planned.size(); ++k) {
-                planned[k].cost = weights > 0.0 ? units[cut].cost * share_weights[k] / weights
-                                                : units[cut].cost / static_cast<double>(planned.size());
-                coarsest = std::max(coarsest, planned[k].cost);
-            }
-            if (coarsest > kLeastGrainGain * units[cut].cost) {
-                depth[cut] = kMaxCutDepth;  // its work is in one piece: cutting gains nothing
+            for (const PlannedTile& q : pieces) coarsest = std::max(coarsest, q.cost);
+            if (pieces.empty() || coarsest > kLeastGrainGain * units[cut].cost) {
+                settled[cut] = 1;  // cannot be cut, or its work stays in one piece
                 continue;
             }
             const auto at = static_cast<std::ptrdiff_t>(cut);
-            const int d = depth[cut] + 1;
             units.erase(units.begin() + at);
-            shapes.erase(shapes.begin() + at);
-            depth.erase(depth.begin() + at);
-            units.insert(units.begin() + at, planned.begin(), planned.end());
-            shapes.insert(shapes.begin() + at, pieces.begin(), pieces.end());
-            depth.insert(depth.begin() + at, planned.size(), d);
+            settled.erase(settled.begin() + at);
+            units.insert(units.begin() + at, pieces.begin(), pieces.end());
+            settled.insert(settled.begin() + at, pieces.size(), 1);
         }
+    }
+
+    /// The largest process's cost when `units` are split contiguously over n processes.
+    static double largestShare(const std::vector<PlannedTile>& units, int n) {
+        std::vector<double> costs;
+        for (const PlannedTile& u : units) costs.push_back(u.cost);
+        const std::vector<int> parts = partitionContiguous(costs, n);
+        std::vector<double> sums(static_cast<std::size_t>(n), 0.0);
+        for (std::size_t i = 0; i < costs.size(); ++i) sums[static_cast<std::size_t>(parts[i])] += costs[i];
+        return *std::max_element(sums.begin(), sums.end());
+    }
+
+    /// The pieces of the whole tile `unit` (none if it cannot be cut), its cost shared by the
+    /// frames near each piece's core (falling off with kPieceShareSigmaM).
+    std::vector<PlannedTile> piecesOf(const PlannedTile& unit) const {
+        const Tile whole = grid_.tile(unit.ix, unit.iy);
+        if (!grid_.canSplit(whole)) return {};
+        std::vector<PlannedTile> pieces;
+        std::vector<double> share_weights;
+        double weights = 0.0;
+        for (const Tile& p : grid_.split(whole)) {
+            PlannedTile q = unit;
+            q.piece = p.piece;
+            q.weighted_frames = weightedFrames(p, q.scan_frames, kCostSigmaM);
+            share_weights.push_back(weightedFrames(p, q.scan_frames, kPieceShareSigmaM));
+            weights += share_weights.back();
+            pieces.push_back(std::move(q));
+        }
+        for (std::size_t k = 0; k < pieces.size(); ++k) {
+            pieces[k].cost = weights > 0.0 ? unit.cost * share_weights[k] / weights
+                                           : unit.cost / static_cast<double>(pieces.size());
+        }
+        return pieces;
     }
 
     /// Phase 1's coverage weight of `frames` for a piece's core, falling off with `sigma_m`.

@@ -228,21 +228,17 @@ std::vector<Tile> TileGrid::split(const Tile& t) const {
 }
 
 Tile TileGrid::piece(int ix, int iy, const std::string& path) const {
+    // A path is one digit per level (split() makes at most 4 pieces), the levels joined by '.'.
     Tile t = tile(ix, iy);
-    if (path.empty()) return t;
-    std::size_t at = 0;
-    while (at <= path.size()) {  // "0." ends with an empty index
-        std::size_t end = path.find('.', at);
-        if (end == std::string::npos) end = path.size();
-        const std::string index = path.substr(at, end - at);
+    for (std::size_t at = 0; at < path.size(); at += 2) {
         const std::vector<Tile> pieces = canSplit(t) ? split(t) : std::vector<Tile>();
-        if (index.empty() || index.find_first_not_of("0123456789") != std::string::npos ||
-            index.size() > 1 || std::stoul(index) >= pieces.size()) {
-            throw InvalidInput("tile " + std::to_string(ix) + "_" + std::to_string(iy) +
-                               ": no piece '" + path + "'");
+        const bool digit = path[at] >= '0' && path[at] <= '9';
+        const bool joined = at + 1 == path.size() || (path[at + 1] == '.' && at + 2 < path.size());
+        const std::size_t index = digit ? static_cast<std::size_t>(path[at] - '0') : pieces.size();
+        if (!joined || index >= pieces.size()) {
+            throw InvalidInput("tile " + tileName(ix, iy) + ": no piece '" + path + "'");
         }
-        t = pieces[std::stoul(index)];
-        at = end + 1;
+        t = pieces[index];
     }
     return t;
 }

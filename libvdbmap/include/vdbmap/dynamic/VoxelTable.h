@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -73,6 +74,12 @@ inline std::uint64_t voxelKey(std::int64_t x, std::int64_t y, std::int64_t z) {
     return ((static_cast<std::uint64_t>(x + kVoxelKeyOffset) & m) << (2 * kVoxelKeyBits)) |
            ((static_cast<std::uint64_t>(y + kVoxelKeyOffset) & m) << kVoxelKeyBits) |
            (static_cast<std::uint64_t>(z + kVoxelKeyOffset) & m);
+}
+
+/// The integer coordinates of the voxel of edge 1 / inv_voxel_m holding (x, y, z).
+inline std::array<std::int64_t, 3> voxelCoords(float x, float y, float z, float inv_voxel_m) {
+    return {static_cast<std::int64_t>(std::floor(x * inv_voxel_m)), static_cast<std::int64_t>(std::floor(y * inv_voxel_m)),
+            static_cast<std::int64_t>(std::floor(z * inv_voxel_m))};
 }
 
 /// Calls visit(index) for each voxel of `table` in the 26-neighbourhood of the voxel at `c`

@@ -2,7 +2,6 @@
 #pragma once
 
 #include <cstddef>
-#include <string>
 #include <vector>
 
 #include "vdbmap/pipeline/Tiling.h"
@@ -52,9 +51,7 @@ struct PlannedTile {
     int process = 0;  ///< the process (MPI rank) that runs it
 
     /// Tile::name(): "<ix>_<iy>" or "<ix>_<iy>.<piece>".
-    std::string name() const {
-        return std::to_string(ix) + "_" + std::to_string(iy) + (piece.empty() ? "" : "." + piece);
-    }
+    std::string name() const { return tileName(ix, iy, piece); }
 };
 
 /// The pose-based plan of a tiled run (issue 13): every tile a scan can reach (those that

@@ -56,6 +56,11 @@ struct TilingConfig {
     void validate(double voxel_size_m, const std::string& where) const;
 };
 
+/// "<ix>_<iy>", a tile's folder name below tiles/; a piece's is "<ix>_<iy>.<piece>".
+inline std::string tileName(int ix, int iy, const std::string& piece = "") {
+    return std::to_string(ix) + "_" + std::to_string(iy) + (piece.empty() ? "" : "." + piece);
+}
+
 /// A ground tile of a tiled run: its key, the cubes it owns (core) and sees (halo) on the voxel
 /// grid, its bounds in the world frame and the views assigned to it. Tile edges lie on the
 /// voxel-leaf grid (the edge is a whole number of 8-voxel leaves).
@@ -85,9 +90,7 @@ struct Tile {
     std::vector<std::size_t> split_estimates_bytes;
 
     /// "<ix>_<iy>", the tile's folder name below tiles/; a piece's is "<ix>_<iy>.<piece>".
-    std::string name() const {
-        return std::to_string(ix) + "_" + std::to_string(iy) + (piece.empty() ? "" : "." + piece);
-    }
+    std::string name() const { return tileName(ix, iy, piece); }
     /// Distinct frames among the views.
     std::size_t numFrames() const;
 };
