@@ -8,7 +8,7 @@
 # (report.json) and the predicted speed-up (one process's CPU over the largest rank's).
 #
 #   bench/mpi_balance.sh [BUILD [WORK [SIZE_M [RANKS]]]]   (defaults: build out/bench_balance 200 8)
-#   PIPELINE=config/street_tiled.yaml (the default; any tiled pipeline)
+#   PIPELINE=config/street_tiled.yaml (the default; any tiled pipeline); SEED=4 (the street's)
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 BUILD=$(realpath "${1:-$root/build}")
@@ -17,8 +17,9 @@ SIZE=${3:-200}
 N=${4:-8}
 PIPELINE=${PIPELINE:-$root/config/street_tiled.yaml}
 mkdir -p "$WORK"
+SEED=${SEED:-4}
 seq=$WORK/street$SIZE
-[ -f "$seq/gt/sim.json" ] || "$BUILD/bin/vdbmap-sim" street --size "$SIZE" --frames "$SIZE" --seed 4 -o "$seq" --quiet
+[ -f "$seq/gt/sim.json" ] || "$BUILD/bin/vdbmap-sim" street --size "$SIZE" --frames "$SIZE" --seed "$SEED" -o "$seq" --quiet
 S=(--set "dataset.path=$seq" --quiet --threads 1)
 CUT=(--set "tiling.split_for_processes=$N")
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
