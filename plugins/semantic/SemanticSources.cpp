@@ -18,6 +18,7 @@
 #include "vdbmap/pipeline/Tiling.h"
 #include "vdbmap/dynamic/MovingReturns.h"
 #include "vdbmap/render/ScanOcclusion.h"
+#include "vdbmap/render/VisibilityKey.h"
 #include "vdbmap/render/VisibilitySetup.h"
 
 namespace vdbmap::semantic {
@@ -107,19 +108,34 @@ ImageVotes imageVotes(const std::string& stage, Context& ctx, const VisibilityOp
                 " frame x camera pairs have no semantic image and are skipped");
     }
     Timer step;
-    Visibility visibility = meshVisibility(ctx.mesh(), views, options, stage + " visibility",
+    // texture.mrf before or after this stage sees the same faces from the same views: the
+    // visibility one computed serves the other when the inputs are the same and the view angle
+    // it was computed with is at least as wide (Context::keepVisibility, takeVisibility).
+    const MeshArrays mesh = meshArrays(ctx.mesh(), DeletedFaces::Collapse);
+    const auto moving = ctx.movingReturns();
+    const std::string key =
+        visibilityKey(mesh, ctx.occluderMesh(), views, options, scan, moving.get());
+    SharedVisibility shared;
+    if (auto kept = ctx.takeVisibility(key, options.max_view_angle_deg)) {
+        shared = std::move(*kept);
+        out.visibility_reused = true;
+    } else {
+        shared.visibility = meshVisibility(ctx.mesh(), views, options, stage + " visibility",
                                            ctx.quiet(), &ctx.occluderMesh());
-    if (scan) {
-        // No vote from a view for a face something in front hid then (a moving car).
-        Progress progress(stage + " scan occlusion", views.size(), ctx.quiet());
-        // The returns removed as moving hide by a tighter rule (ScanOcclusionOptions::moving_*).
-        const auto moving = ctx.movingReturns();
-        out.scan_hidden = removeScanOccluded(
-            visibility, meshArrays(ctx.mesh(), DeletedFaces::Collapse), views,
-            datasetViewScans(dataset, views), *scan, &progress,
-            moving ? movingViewScans(dataset, views, *moving) : ViewScanFn{});
-        progress.finish();
+        if (scan) {
+            // No vote from a view for a face something in front hid then (a moving car).
+            Progress progress(stage + " scan occlusion", views.size(), ctx.quiet());
+            // The returns removed as moving hide by a tighter rule (ScanOcclusionOptions::moving_*).
+            removeScanOccluded(shared.visibility, mesh, views, datasetViewScans(dataset, views),
+                               *scan, &progress,
+                               moving ? movingViewScans(dataset, views, *moving) : ViewScanFn{},
+                               &shared.scan_hidden_cos);
+            progress.finish();
+        }
+        shared.max_view_angle_deg = options.max_view_angle_deg;
     }
+    const Visibility& visibility = shared.visibility;
+    out.scan_hidden = shared.scan_hidden_cos.size();
     out.visibility_s = step.elapsedSeconds();
 
     step.reset();
@@ -129,6 +145,8 @@ ImageVotes imageVotes(const std::string& stage, Context& ctx, const VisibilityOp
     out.views = views.size();
     out.observations = visibility.obs.size();
     out.votes_s = step.elapsedSeconds();
+    // texture.mrf after this stage may see the same faces from the same views.
+    ctx.keepVisibility(key, std::move(shared));
     return out;
 }
 

@@ -51,6 +51,7 @@ struct ImageVotes {
     std::size_t views = 0;
     std::size_t observations = 0;
     std::size_t scan_hidden = 0;  ///< observations the nearest-in-time scan hid (not voted)
+    bool visibility_reused = false;  ///< taken from an earlier stage (Context::takeVisibility)
     double visibility_s = 0, votes_s = 0;
 };
 

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <array>
+#include <filesystem>
 #include <sstream>
 
 #include "ObjExport.h"
@@ -20,8 +21,10 @@
 #include "vdbmap/core/Progress.h"
 #include "vdbmap/render/Raycaster.h"
 #include "vdbmap/dynamic/MovingReturns.h"
+#include "vdbmap/render/ImageMasks.h"
 #include "vdbmap/render/ScanOcclusion.h"
 #include "vdbmap/render/Visibility.h"
+#include "vdbmap/render/VisibilityKey.h"
 #include "vdbmap/render/VisibilitySetup.h"
 
 namespace vdbmap::texture {
@@ -140,6 +143,14 @@ void TextureMrfStage::declareOptions(OptionSpec& spec) {
     spec.add("scan_occlusion_moving_dilate_px",
              "Scan occlusion: radius of the min filter over the moving returns", scan_moving_dilate_px_,
              6, "px");
+    spec.add("image_masks",
+             "Folder of per-image masks (8-bit grey, the image's size and file name; in "
+             "<folder>/<camera> with several cameras): a view does not texture a face that "
+             "touches a non-zero pixel of its image's mask, e.g. the moving objects a 2D "
+             "detector found. Images without a mask file are not masked ('' = no masks)",
+             image_masks_, std::string());
+    spec.add("image_masks_dilate_px", "Image masks: grown by this radius before the test",
+             image_masks_dilate_px_, 2, "px");
     spec.add("fill",
              "Faces no view saw: 'smooth' (colours diffused from the textured border, a sparse "
              "Laplace solve), 'neighbour' (colour of the nearest textured face) or 'grey'",
@@ -204,6 +215,13 @@ void TextureMrfStage::initialize() {
                    "'scan_occlusion_moving_dilate_px' in [0, 32], got " +
                    std::to_string(scan_moving_margin_m_) + ", " + std::to_string(scan_moving_dilate_px_));
     }
+    if (image_masks_dilate_px_ < 0 || image_masks_dilate_px_ > 32) {
+        failConfig("option 'image_masks_dilate_px' must be in [0, 32], got " +
+                   std::to_string(image_masks_dilate_px_));
+    }
+    if (!image_masks_.empty() && !std::filesystem::is_directory(image_masks_)) {
+        failConfig("option 'image_masks': '" + image_masks_ + "' is not a directory");
+    }
     if (exposure_gains_ != "auto" && exposure_gains_ != "true" && exposure_gains_ != "false") {
         failConfig("option 'exposure_gains' must be 'auto', 'true' or 'false', got '" +
                    exposure_gains_ + "'");
@@ -222,6 +240,17 @@ void TextureMrfStage::declareLayers(LayerSpec& spec) const {
     spec.reads(layers::kMesh);
     spec.reads(layers::kImages);
     spec.writes(layers::kTexture);
+}
+
+ScanOcclusionOptions TextureMrfStage::scanOcclusionOptions() const {
+    ScanOcclusionOptions scan;
+    scan.margin_m = scan_margin_m_;
+    scan.margin_rel = scan_margin_rel_;
+    scan.row_dilate_px = scan_dilate_px_;
+    scan.gap_px = scan_gap_px_;
+    scan.moving_margin_m = scan_moving_margin_m_;
+    scan.moving_dilate_px = scan_moving_dilate_px_;
+    return scan;
 }
 
 TextureOptions TextureMrfStage::textureOptions(std::size_t num_cameras, bool quiet) const {
@@ -381,31 +410,53 @@ void TextureMrfStage::run(Context& ctx) {
     vis_options.min_depth_m = min_depth_m_;
     vis_options.max_depth_m = max_depth_m_;
     vis_options.occlusion_test = occlusion_test_;
-    Visibility vis =
-        meshVisibility(tri_mesh, views, vis_options, stage + " visibility", ctx.quiet(),
-                       &ctx.occluderMesh());
+    // texture.mrf and semantic.mrf see the same faces from the same views: whichever runs
+    // second takes the first one's visibility when its inputs are the same and its view angle
+    // at least as wide (Context::takeVisibility).
+    const ScanOcclusionOptions scan_options = scanOcclusionOptions();
+    const auto moving = ctx.movingReturns();
+    const std::string visibility_key =
+        visibilityKey(mesh, ctx.occluderMesh(), views, vis_options,
+                      scan_occlusion_ ? &scan_options : nullptr, moving.get());
+    SharedVisibility shared;
+    if (auto kept = ctx.takeVisibility(visibility_key, vis_options.max_view_angle_deg)) {
+        shared = std::move(*kept);
+        report.stage(stage, "visibility_reused", true);
+    } else {
+        shared.visibility = meshVisibility(tri_mesh, views, vis_options, stage + " visibility",
+                                           ctx.quiet(), &ctx.occluderMesh());
+        if (scan_occlusion_) {
+            // A view must not texture a face that something in front hid when the image was
+            // taken, even if the map lacks it (a moving car): the scan nearest in time tells.
+            Timer scan_timer;
+            Progress progress(stage + " scan occlusion", views.size(), ctx.quiet());
+            // The returns removed as moving hide by a tighter rule (ScanOcclusionOptions::moving_*).
+            removeScanOccluded(shared.visibility, mesh, views, datasetViewScans(dataset, views),
+                               scan_options, &progress,
+                               moving ? movingViewScans(dataset, views, *moving) : ViewScanFn{},
+                               &shared.scan_hidden_cos);
+            progress.finish();
+            report.set({"stages", stage, "timings_s", "scan_occlusion"},
+                       scan_timer.elapsedSeconds());
+        }
+        shared.max_view_angle_deg = vis_options.max_view_angle_deg;
+        report.stage(stage, "visibility_reused", false);
+    }
+    Visibility& vis = shared.visibility;
     if (scan_occlusion_) {
-        // A view must not texture a face that something in front hid when the image was taken,
-        // even if the map lacks it (a moving car): the scan nearest in time tells.
-        ScanOcclusionOptions scan_options;
-        scan_options.margin_m = scan_margin_m_;
-        scan_options.margin_rel = scan_margin_rel_;
-        scan_options.row_dilate_px = scan_dilate_px_;
-        scan_options.gap_px = scan_gap_px_;
-        scan_options.moving_margin_m = scan_moving_margin_m_;
-        scan_options.moving_dilate_px = scan_moving_dilate_px_;
-        Timer scan_timer;
-        Progress progress(stage + " scan occlusion", views.size(), ctx.quiet());
-        // The returns removed as moving hide by a tighter rule (ScanOcclusionOptions::moving_*).
-        const auto moving = ctx.movingReturns();
-        const std::size_t hidden = removeScanOccluded(
-            vis, mesh, views, datasetViewScans(dataset, views), scan_options, &progress,
-            moving ? movingViewScans(dataset, views, *moving) : ViewScanFn{});
-        progress.finish();
-        report.stage(stage, "scan_hidden_observations", hidden);
-        report.set({"stages", stage, "timings_s", "scan_occlusion"}, scan_timer.elapsedSeconds());
-        logInfo(stage + ": " + std::to_string(hidden) +
+        report.stage(stage, "scan_hidden_observations", shared.scan_hidden_cos.size());
+        logInfo(stage + ": " + std::to_string(shared.scan_hidden_cos.size()) +
                 " observations hidden by the scan nearest in time to their image");
+    }
+    if (!image_masks_.empty()) {
+        // Pixels the user marked (e.g. a 2D detector's moving objects) give no face its colour.
+        Timer mask_timer;
+        const std::size_t masked = removeMaskedObservations(
+            vis, views, directoryViewMasks(dataset, views, image_masks_), image_masks_dilate_px_);
+        report.stage(stage, "masked_observations", masked);
+        report.set({"stages", stage, "timings_s", "image_masks"}, mask_timer.elapsedSeconds());
+        logInfo(stage + ": " + std::to_string(masked) + " observations on masked pixels (" +
+                image_masks_ + ")");
     }
     const auto adjacency = faceAdjacency(tri_mesh);
     const double visibility_s = step.elapsedSeconds();
@@ -426,6 +477,8 @@ void TextureMrfStage::run(Context& ctx) {
         return image;
     };
     TextureResult result = textureMesh(mesh, views, vis, adjacency, load, options);
+    // Hand the visibility on to a later stage (semantic.mrf) unless the masks changed it.
+    if (image_masks_.empty()) ctx.keepVisibility(visibility_key, std::move(shared));
 
     setTextureLayer(tri_mesh, result);
 

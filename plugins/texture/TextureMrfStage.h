@@ -7,6 +7,7 @@
 #include "TexturePipeline.h"
 #include "vdbmap/pipeline/Report.h"
 #include "vdbmap/pipeline/Stage.h"
+#include "vdbmap/render/ScanOcclusion.h"
 
 namespace vdbmap::texture {
 
@@ -29,6 +30,8 @@ public:
     void run(Context& ctx) override;
 
 private:
+    /// The scan occlusion test's options from the stage options.
+    ScanOcclusionOptions scanOcclusionOptions() const;
     /// Phase: the TextureOptions of the stage options for `num_cameras` cameras.
     TextureOptions textureOptions(std::size_t num_cameras, bool quiet) const;
     /// Phase: counts, timings and the vignetting used into report.json.
@@ -49,6 +52,8 @@ private:
     int scan_gap_px_ = 8;
     double scan_moving_margin_m_ = 0.1;
     int scan_moving_dilate_px_ = 6;
+    std::string image_masks_;
+    int image_masks_dilate_px_ = 2;
     std::string seam_space_ = "log_luminance";
     double seam_max_log_difference_ = 0.1;
     bool photo_consistency_ = true;

@@ -89,6 +89,27 @@ TEST_CASE("bad input: an image of the wrong size names the file, its size and th
     CHECK_THAT(log, Contains("image_2"));
 }
 
+TEST_CASE("bad input: texture image masks that are no folder, or of the wrong size, name it",
+          "[cli][hardening][image_masks]") {
+    const fs::path seq = workDir() / "seq_master";
+    const fs::path config = writeConfig("image_masks", seq, "texture",
+                                        std::string(kMeshStages) + "  - {stage: texture.mrf}\n");
+    std::string log;
+    const fs::path missing = workDir() / "no_such_masks";
+    CHECK(run(config, "out_masks_missing", &log,
+              {"--set", "texture.mrf.image_masks=" + missing.string()}) == 2);
+    CHECK_THAT(log, Contains("image_masks") && Contains(missing.string()) &&
+                        Contains("not a directory"));
+    const fs::path masks = workDir() / "masks_small";
+    fs::create_directories(masks);
+    cv::imwrite((masks / "000001.png").string(), cv::Mat(5, 7, CV_8UC1, cv::Scalar(255)));
+    CHECK(run(config, "out_masks_small", &log,
+              {"--set", "texture.mrf.image_masks=" + masks.string()}) == 1);
+    CHECK_THAT(log, Contains((masks / "000001.png").string()) && Contains("7 x 5") &&
+                        Contains("1242 x 375"));
+    CHECK(!fs::exists(workDir() / "out_masks_small" / "textured" / "mesh.obj"));
+}
+
 TEST_CASE("bad input: a 3-channel semantic image is an error saying one channel is needed",
           "[cli][hardening]") {
     const fs::path seq = copySequence("seq_rgb_semantic");

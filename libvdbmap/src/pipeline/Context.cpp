@@ -64,6 +64,22 @@ std::unique_ptr<Context> Context::regionContext(std::shared_ptr<const Tile> tile
     return ContextBuilder::tileContext(*this, output_dir_, report, std::move(tile));
 }
 
+void Context::keepVisibility(std::string key, SharedVisibility visibility) {
+    kept_visibility_ = std::make_unique<KeptVisibility>(
+        KeptVisibility{std::move(key), std::move(visibility), true});
+}
+
+std::optional<SharedVisibility> Context::takeVisibility(const std::string& key,
+                                                        double max_view_angle_deg) {
+    if (!kept_visibility_) return std::nullopt;
+    std::unique_ptr<KeptVisibility> kept = std::move(kept_visibility_);
+    if (kept->key != key || kept->visibility.max_view_angle_deg < max_view_angle_deg) {
+        return std::nullopt;
+    }
+    narrowViewAngle(kept->visibility, max_view_angle_deg);
+    return std::optional<SharedVisibility>(std::move(kept->visibility));
+}
+
 std::vector<View> Context::views(bool need_images, bool need_semantics) const {
     std::vector<View> views = datasetViews(dataset(), need_images, need_semantics);
     if (!tile_) return views;

@@ -35,6 +35,16 @@ public:
     static void setScanStream(Context& ctx, std::shared_ptr<ScanStream> stream) {
         ctx.stream_ = std::move(stream);
     }
+    /// After each stage of `ctx` (the pipeline): the visibility a stage kept lives until the end
+    /// of the next stage (Context::keepVisibility).
+    static void stageEnded(Context& ctx) {
+        if (!ctx.kept_visibility_) return;
+        if (ctx.kept_visibility_->kept_in_this_stage) {
+            ctx.kept_visibility_->kept_in_this_stage = false;
+        } else {
+            ctx.kept_visibility_.reset();
+        }
+    }
     /// The pipeline's side of streaming, or nullptr (untiled runs).
     static const ScanStream* scanStream(const Context& ctx) { return ctx.stream_.get(); }
     /// A context for one tile of a tiled run: the same dataset, map, moving returns and flags, the tile's

@@ -81,6 +81,7 @@ void runStage(PipelineStage& ps, std::size_t index, std::size_t count, Context& 
         report.set({"stages", name, "wall_time_s"}, own());
         throw;
     }
+    ContextBuilder::stageEnded(ctx);
     current = name;
     const double seconds = own();
     report.set({"stages", name, "wall_time_s"}, seconds);

@@ -140,22 +140,18 @@ bool faceHiddenByScan(const ScanDepthImage& depth, const std::array<Vec3d, 3>& c
 std::size_t removeScanOccluded(Visibility& vis, const MeshArrays& mesh,
                                const std::vector<View>& views, const ViewScanFn& scan_of_view,
                                const ScanOcclusionOptions& options, Progress* progress,
-                               const ViewScanFn& moving_of_view) {
+                               const ViewScanFn& moving_of_view,
+                               std::vector<float>* hidden_cos_angles) {
     if (vis.numFaces() != mesh.faces.size()) {
         throw InvalidInput("removeScanOccluded: visibility covers " +
                            std::to_string(vis.numFaces()) + " faces but the mesh has " +
                            std::to_string(mesh.faces.size()));
     }
-    std::vector<std::vector<std::uint64_t>> per_view(views.size());
-    for (std::size_t f = 0; f < vis.numFaces(); ++f) {
-        for (std::uint64_t i = vis.offsets[f]; i < vis.offsets[f + 1]; ++i) {
-            if (vis.obs[i].view >= views.size()) {
-                throw InvalidInput("removeScanOccluded: observation of view " +
-                                   std::to_string(vis.obs[i].view) + " of " +
-                                   std::to_string(views.size()));
-            }
-            per_view[vis.obs[i].view].push_back(i);
-        }
+    std::vector<std::vector<std::uint64_t>> per_view;
+    try {
+        per_view = observationsByView(vis, views.size());
+    } catch (const InvalidInput& e) {
+        throw InvalidInput(std::string("removeScanOccluded: ") + e.what());
     }
     std::vector<std::uint32_t> face_of(vis.obs.size());
     for (std::size_t f = 0; f < vis.numFaces(); ++f) {
@@ -186,23 +182,12 @@ std::size_t removeScanOccluded(Visibility& vis, const MeshArrays& mesh,
         }
         if (progress) progress->tick();
     });
-    // Compact the CSR arrays in place, keeping the per-face order (sorted by view).
-    std::size_t removed = 0, out = 0;
-    std::uint64_t begin = 0;
-    for (std::size_t f = 0; f < vis.numFaces(); ++f) {
-        const std::uint64_t end = vis.offsets[f + 1];
-        for (std::uint64_t i = begin; i < end; ++i) {
-            if (hidden[i]) {
-                ++removed;
-            } else {
-                vis.obs[out++] = vis.obs[i];
-            }
+    if (hidden_cos_angles) {
+        for (std::size_t i = 0; i < hidden.size(); ++i) {
+            if (hidden[i]) hidden_cos_angles->push_back(vis.obs[i].cos_angle);
         }
-        begin = end;
-        vis.offsets[f + 1] = out;
     }
-    vis.obs.resize(out);
-    return removed;
+    return dropObservations(vis, hidden);
 }
 
 std::size_t nearestScanFrame(const Dataset& dataset, std::size_t frame) {

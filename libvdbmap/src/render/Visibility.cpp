@@ -262,4 +262,40 @@ Visibility computeVisibility(const TriMesh& mesh, const std::vector<View>& views
     return vis;
 }
 
+std::vector<std::vector<std::uint64_t>> observationsByView(const Visibility& vis,
+                                                           std::size_t num_views) {
+    std::vector<std::vector<std::uint64_t>> per_view(num_views);
+    for (std::uint64_t i = 0; i < vis.obs.size(); ++i) {
+        if (vis.obs[i].view >= num_views) {
+            throw InvalidInput("observation of view " + std::to_string(vis.obs[i].view) + " of " +
+                               std::to_string(num_views));
+        }
+        per_view[vis.obs[i].view].push_back(i);
+    }
+    return per_view;
+}
+
+std::size_t dropObservations(Visibility& vis, const std::vector<char>& drop) {
+    if (drop.size() != vis.obs.size()) {
+        throw InvalidInput("dropObservations: " + std::to_string(drop.size()) + " flags for " +
+                           std::to_string(vis.obs.size()) + " observations");
+    }
+    std::size_t removed = 0, out = 0;
+    std::uint64_t begin = 0;
+    for (std::size_t f = 0; f < vis.numFaces(); ++f) {
+        const std::uint64_t end = vis.offsets[f + 1];
+        for (std::uint64_t i = begin; i < end; ++i) {
+            if (drop[i]) {
+                ++removed;
+            } else {
+                vis.obs[out++] = vis.obs[i];
+            }
+        }
+        begin = end;
+        vis.offsets[f + 1] = out;
+    }
+    vis.obs.resize(out);
+    return removed;
+}
+
 }  // namespace vdbmap

@@ -4,11 +4,14 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
+#include <string>
 #include <string_view>
 #include <vector>
 
 #include "vdbmap/mesh/TriMesh.h"
 #include "vdbmap/render/Visibility.h"
+#include "vdbmap/render/VisibilityKey.h"
 
 namespace vdbmap {
 
@@ -79,6 +82,18 @@ public:
     /// run it is complete for the frames of a tile's views when the tile's stages run.
     std::shared_ptr<const MovingReturns> movingReturns() const { return moving_; }
 
+    /// Visibility a stage computed (meshVisibility, then removeScanOccluded) for a later stage
+    /// of this context that asks for the same inputs: texture.mrf and semantic.mrf see the same
+    /// faces from the same views. `key` is visibilityKey() of the inputs
+    /// (vdbmap/render/VisibilityKey.h). It is kept until a stage asks for another, or until the
+    /// end of the stage after the one that kept it; keeping another replaces it.
+    void keepVisibility(std::string key, SharedVisibility visibility);
+    /// The kept visibility, moved out and narrowed to `max_view_angle_deg` (narrowViewAngle),
+    /// if its key is `key` and it was computed with at least that angle; otherwise std::nullopt,
+    /// and the kept one is dropped (no later stage of this context can ask for it any more).
+    std::optional<SharedVisibility> takeVisibility(const std::string& key,
+                                                   double max_view_angle_deg);
+
     /// True in the per-tile contexts of a tiled run.
     bool hasTile() const { return tile_ != nullptr; }
     /// The tile (key, core and halo bounds in W, assigned views). Throws Error if untiled.
@@ -128,6 +143,12 @@ private:
     std::shared_ptr<const TriMesh> occluder_;
     std::shared_ptr<const MovingReturns> moving_;
     std::shared_ptr<ScanStream> stream_;
+    struct KeptVisibility {
+        std::string key;
+        SharedVisibility visibility;
+        bool kept_in_this_stage = true;
+    };
+    std::unique_ptr<KeptVisibility> kept_visibility_;
 };
 
 }  // namespace vdbmap

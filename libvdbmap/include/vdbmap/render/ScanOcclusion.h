@@ -92,12 +92,14 @@ using ViewScanFn = std::function<std::vector<Vec3f>(std::size_t view)>;
 /// `mesh` must index faces as `vis` does (meshArrays(..., DeletedFaces::Collapse) of the mesh
 /// the visibility was computed on). Parallel over views; `progress` (optional) is ticked per
 /// view. `moving_of_view` (optional: empty function) gives the moving returns of the same scan
-/// (a subset of its points), which also hide by the moving rule. Returns the number of
-/// observations removed. Throws InvalidInput on size mismatch and what the functions throw.
+/// (a subset of its points), which also hide by the moving rule. `hidden_cos_angles` (optional)
+/// receives the cos_angle of each observation removed. Returns the number of observations
+/// removed. Throws InvalidInput on size mismatch and what the functions throw.
 std::size_t removeScanOccluded(Visibility& vis, const MeshArrays& mesh,
                                const std::vector<View>& views, const ViewScanFn& scan_of_view,
                                const ScanOcclusionOptions& options, Progress* progress = nullptr,
-                               const ViewScanFn& moving_of_view = {});
+                               const ViewScanFn& moving_of_view = {},
+                               std::vector<float>* hidden_cos_angles = nullptr);
 
 /// The frame whose scan is nearest in time to the images of frame `frame`. Every layout gives an
 /// image the timestamp of its frame (docs/DATA.md: camera and LiDAR are synchronised, KITTI

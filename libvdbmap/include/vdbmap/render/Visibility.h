@@ -57,6 +57,16 @@ struct Visibility {
     const FaceObservation* end(std::size_t face) const { return obs.data() + offsets[face + 1]; }
 };
 
+/// The indices into vis.obs of each view's observations, for views 0 .. num_views-1, in
+/// face order. Throws InvalidInput on an observation of a view >= num_views.
+std::vector<std::vector<std::uint64_t>> observationsByView(const Visibility& vis,
+                                                           std::size_t num_views);
+
+/// Removes the observations i with drop[i] != 0 in place, keeping the order of the others (per
+/// face sorted by view). Returns how many were removed. Throws InvalidInput unless drop has
+/// one entry per observation.
+std::size_t dropObservations(Visibility& vis, const std::vector<char>& drop);
+
 /// Decides for every pair (face, view) whether the face is visible: all corners project
 /// inside the image, in front of the camera within [min_depth_m, max_depth_m], front-facing,
 /// within max_view_angle_deg, and not occluded (if `occluder` is non-null and

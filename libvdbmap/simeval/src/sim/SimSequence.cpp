@@ -304,6 +304,22 @@ void writeFrameScan(const FrameContext& c, const FrameScene& fs, std::size_t f,
     writeLidarLabels(c.out_dir / c.labels_dir / (frameName(f) + ".label"), labels);
 }
 
+// The pixels of a rendered view that show a mover (--traffic) or an occluder box (--occluders,
+// layer 1): 255 there, 0 elsewhere. Ground truth for texture.mrf's image_masks.
+cv::Mat moverMask(const RenderedView& view, const TrafficFrame* traffic) {
+    cv::Mat mask(view.layer.size(), CV_8UC1, cv::Scalar(0));
+    for (int y = 0; y < mask.rows; ++y) {
+        for (int x = 0; x < mask.cols; ++x) {
+            const std::uint8_t layer = view.layer.at<std::uint8_t>(y, x);
+            const int face = view.face.at<std::int32_t>(y, x);
+            const bool mover = layer == 0 && traffic && face >= 0 &&
+                               static_cast<std::size_t>(face) >= traffic->static_faces;
+            if (mover || layer == 1) mask.at<std::uint8_t>(y, x) = 255;
+        }
+    }
+    return mask;
+}
+
 // Phase 5b: the colour and semantic images of frame f (returns its exposure).
 double writeFrameImages(const FrameContext& c, const FrameScene& fs, std::size_t f,
                         std::uint64_t frame_seed, std::vector<std::size_t>& occluder_frames) {
@@ -336,6 +352,10 @@ double writeFrameImages(const FrameContext& c, const FrameScene& fs, std::size_t
         addLabelNoise(view.labels, c.imaging, rng);
         writePng(c.out_dir / image_folder / (frameName(f) + ".png"), view.color);
         writePng(c.out_dir / semantic_folder / (frameName(f) + ".png"), view.labels);
+        if (fs.traffic || c.options.occluders) {
+            writePng(c.out_dir / "gt" / "mover_masks" / image_folder / (frameName(f) + ".png"),
+                     moverMask(view, fs.traffic));
+        }
     };
     if (!c.rig.empty()) {
         // T_W_V = T_W_C0 * Tr * T_V_L^-1; camera c at T_W_V * T_V_C.
