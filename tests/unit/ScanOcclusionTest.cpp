@@ -3,6 +3,10 @@
 // a box the LiDAR saw, the ground that must not hide itself, the depth image's min filter.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <limits>
+#include <random>
+
 #include <cmath>
 
 #include "vdbmap/Error.h"
@@ -261,4 +265,45 @@ TEST_CASE("the scan depth image keeps the nearest return and min-filters it", "[
     CHECK(dilated.at(328, 240) == 10.0f);
     CHECK(std::isinf(dilated.at(325, 240)));
     CHECK_THROWS_AS(vdbmap::scanDepthImage(points, view.intrinsics, -1), vdbmap::InvalidInput);
+}
+
+TEST_CASE("the dilated depth images are a brute-force square and row minimum", "[render][scan_occlusion]") {
+    const View view = frontView();
+    const auto& in = view.intrinsics;
+    // Sparse returns at random pixels and depths (some outside the image, some behind).
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(-0.2f, 1.2f), z(-1.0f, 30.0f);
+    std::vector<Vec3f> points;
+    for (int i = 0; i < 3000; ++i) {
+        const float depth = z(rng);
+        const float px = u(rng) * in.width, py = u(rng) * in.height;
+        points.emplace_back(static_cast<float>((px - in.cx) / in.fx) * depth,
+                            static_cast<float>((py - in.cy) / in.fy) * depth, depth);
+    }
+    const auto raw = vdbmap::scanDepthImage(points, in, 0);
+    for (const int r : {1, 2, 6}) {
+        INFO("r = " << r);
+        const auto square = vdbmap::scanDepthImage(points, in, r);
+        const auto rows = vdbmap::bracketedScanDepthImage(points, in, r, 0);
+        std::size_t wrong_square = 0, wrong_rows = 0;
+        for (int y = 0; y < in.height; ++y) {
+            for (int x = 0; x < in.width; ++x) {
+                float sq = std::numeric_limits<float>::infinity(), row = sq;
+                for (int dy = -r; dy <= r; ++dy) {
+                    for (int dx = -r; dx <= r; ++dx) {
+                        sq = std::min(sq, raw.at(x + dx, y + dy));
+                        if (dy == 0) row = std::min(row, raw.at(x + dx, y));
+                    }
+                }
+                wrong_square += square.at(x, y) != sq;
+                wrong_rows += rows.at(x, y) != row;
+            }
+        }
+        CHECK(wrong_square == 0);
+        CHECK(wrong_rows == 0);
+    }
+    // No return inside the image: all +inf, with or without the filters.
+    const auto none = vdbmap::scanDepthImage({Vec3f(0, 0, -5)}, in, 6);
+    CHECK(none.empty());
+    CHECK(std::all_of(none.depth_m.begin(), none.depth_m.end(), [](float d) { return std::isinf(d); }));
 }

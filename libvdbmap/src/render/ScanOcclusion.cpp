@@ -17,23 +17,31 @@ namespace vdbmap {
 
 namespace {
 
-/// In-place running minimum over a window of radius r along rows (step 1) or columns.
-void minFilter1d(std::vector<float>& image, int width, int height, int r, bool along_rows) {
-    const int lines = along_rows ? height : width;
-    const int length = along_rows ? width : height;
-    std::vector<float> line(static_cast<std::size_t>(length));
-    for (int l = 0; l < lines; ++l) {
-        auto at = [&](int k) -> float& {
-            return along_rows ? image[static_cast<std::size_t>(l) * width + k]
-                              : image[static_cast<std::size_t>(k) * width + l];
-        };
-        for (int k = 0; k < length; ++k) line[static_cast<std::size_t>(k)] = at(k);
-        for (int k = 0; k < length; ++k) {
-            float m = line[static_cast<std::size_t>(k)];
-            for (int j = std::max(0, k - r); j <= std::min(length - 1, k + r); ++j) {
+/// Min filter of radius r along each row, in place (one row buffer).
+void minFilterRows(std::vector<float>& image, int width, int height, int r) {
+    std::vector<float> line(static_cast<std::size_t>(width));
+    for (int y = 0; y < height; ++y) {
+        float* row = image.data() + static_cast<std::size_t>(y) * width;
+        std::copy(row, row + width, line.begin());
+        for (int x = 0; x < width; ++x) {
+            float m = line[static_cast<std::size_t>(x)];
+            for (int j = std::max(0, x - r); j <= std::min(width - 1, x + r); ++j) {
                 m = std::min(m, line[static_cast<std::size_t>(j)]);
             }
-            at(k) = m;
+            row[x] = m;
+        }
+    }
+}
+
+/// Min filter of radius r down each column: each output row is the element-wise minimum of the
+/// input rows within r, whole rows at a time (contiguous, so the compiler vectorises it).
+void minFilterColumns(std::vector<float>& image, int width, int height, int r) {
+    const std::vector<float> in = image;
+    for (int y = 0; y < height; ++y) {
+        float* out = image.data() + static_cast<std::size_t>(y) * width;
+        for (int j = std::max(0, y - r); j <= std::min(height - 1, y + r); ++j) {
+            const float* src = in.data() + static_cast<std::size_t>(j) * width;
+            for (int x = 0; x < width; ++x) out[x] = std::min(out[x], src[x]);
         }
     }
 }
@@ -81,7 +89,7 @@ ScanDepthImage bracketedScanDepthImage(const std::vector<Vec3f>& points_C,
         throw InvalidInput("bracketedScanDepthImage: gap_px " + std::to_string(gap_px) + " (need >= 0)");
     }
     ScanDepthImage depth = scanDepthImage(points_C, intrinsics, 0);
-    if (dilate_px > 0) minFilter1d(depth.depth_m, depth.width, depth.height, dilate_px, true);
+    if (dilate_px > 0 && !depth.empty()) minFilterRows(depth.depth_m, depth.width, depth.height, dilate_px);
     if (gap_px > 0) bracketFillColumns(depth.depth_m, depth.width, depth.height, gap_px);
     return depth;
 }
@@ -107,11 +115,12 @@ ScanDepthImage scanDepthImage(const std::vector<Vec3f>& points_C,
         if (x < 0 || y < 0 || x >= depth.width || y >= depth.height) continue;
         float& d = depth.depth_m[static_cast<std::size_t>(y) * depth.width + x];
         d = std::min(d, p.z());
+        depth.returns = true;
     }
-    if (dilate_px > 0) {
+    if (dilate_px > 0 && !depth.empty()) {
         // The square min filter is separable: rows, then columns.
-        minFilter1d(depth.depth_m, depth.width, depth.height, dilate_px, true);
-        minFilter1d(depth.depth_m, depth.width, depth.height, dilate_px, false);
+        minFilterRows(depth.depth_m, depth.width, depth.height, dilate_px);
+        minFilterColumns(depth.depth_m, depth.width, depth.height, dilate_px);
     }
     return depth;
 }

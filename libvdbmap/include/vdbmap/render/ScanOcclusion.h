@@ -54,6 +54,8 @@ struct ScanOcclusionOptions {
 struct ScanDepthImage {
     int width = 0, height = 0;
     std::vector<float> depth_m;  ///< row-major
+    bool returns = false;        ///< some return fell inside the image (else all +inf)
+    bool empty() const { return !returns; }
     float at(int x, int y) const {
         if (x < 0 || y < 0 || x >= width || y >= height) {
             return std::numeric_limits<float>::infinity();
