@@ -51,7 +51,8 @@ Sources gatherSources(const std::string& stage, Context& ctx, const SemanticOpti
     Sources s;
     if (opt.image_votes) {
         s.images = imageVotes(stage, ctx, opt.visibility, labels, opt.image_chunk,
-                              opt.scan_occlusion ? &opt.scan : nullptr);
+                              opt.scan_occlusion ? &opt.scan : nullptr, opt.image_masks,
+                              opt.image_masks_dilate_px);
     }
     if (opt.lidar_labels) {
         s.lidar = lidarVotes(stage, ctx, faces, labels, opt.label_map, opt.lidar_vote_radius_m);
@@ -170,6 +171,13 @@ void SemanticMrfStage::declareOptions(OptionSpec& spec) {
     spec.add("scan_occlusion_moving_dilate_px",
              "Scan occlusion: radius of the min filter over the moving returns",
              opt_.scan.moving_dilate_px, 6, "px");
+    spec.add("image_masks",
+             "Folder of per-image masks (8-bit grey, named like the colour image, in "
+             "<folder>/<camera> with several cameras): a view does not vote for a face that "
+             "touches a non-zero pixel of its mask (texture.mrf's option; '' = no masks)",
+             opt_.image_masks, std::string());
+    spec.add("image_masks_dilate_px", "Image masks: grown by this radius before the test",
+             opt_.image_masks_dilate_px, 2, "px");
     spec.add("labels_file",
              "Label set file 'id, name, r g b' (overrides the dataset's; '' = dataset's or the "
              "docs/DATA.md default)",
@@ -218,6 +226,13 @@ void SemanticMrfStage::initialize() {
                    std::to_string(opt_.probability_floor));
     }
     if (opt_.max_sweeps < 1) failConfig("option 'max_sweeps' must be >= 1, got " + std::to_string(opt_.max_sweeps));
+    if (opt_.image_masks_dilate_px < 0 || opt_.image_masks_dilate_px > 32) {
+        failConfig("option 'image_masks_dilate_px' must be in [0, 32], got " +
+                   std::to_string(opt_.image_masks_dilate_px));
+    }
+    if (!opt_.image_masks.empty() && !std::filesystem::is_directory(opt_.image_masks)) {
+        failConfig("option 'image_masks': '" + opt_.image_masks + "' is not a directory");
+    }
     if (opt_.scan.margin_m < 0 || !(opt_.scan.margin_rel >= 0 && opt_.scan.margin_rel < 1) ||
         opt_.scan.row_dilate_px < 0 || opt_.scan.row_dilate_px > 32 || opt_.scan.gap_px < 0 ||
         opt_.scan.gap_px > 64) {

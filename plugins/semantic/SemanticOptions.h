@@ -20,6 +20,8 @@ struct SemanticOptions {
     VisibilityOptions visibility;
     bool scan_occlusion = true;  ///< drop image votes the nearest-in-time scan hides
     ScanOcclusionOptions scan;
+    std::string image_masks;        ///< folder of per-image masks ('' = none), texture.mrf's rule
+    int image_masks_dilate_px = 2;
     std::string labels_file;
     // Outputs.
     std::vector<int> export_classes;

@@ -52,6 +52,7 @@ void reportCounts(Report& report, const std::string& stage, const SemanticRunFig
     report.stage(stage, "observations", f.images->observations);
     report.stage(stage, "scan_hidden_observations", f.images->scan_hidden);
     report.stage(stage, "visibility_reused", f.images->visibility_reused);
+    report.stage(stage, "masked_observations", f.images->masked);
     report.stage(stage, "votes", f.votes->votes);
     report.stage(stage, "void_votes", f.votes->void_votes);
     report.stage(stage, "unknown_id_votes", f.votes->unknown_id_votes);

@@ -17,6 +17,7 @@
 #include "vdbmap/pipeline/Context.h"
 #include "vdbmap/pipeline/Tiling.h"
 #include "vdbmap/dynamic/MovingReturns.h"
+#include "vdbmap/render/ImageMasks.h"
 #include "vdbmap/render/ScanOcclusion.h"
 #include "vdbmap/render/VisibilityKey.h"
 #include "vdbmap/render/VisibilitySetup.h"
@@ -87,7 +88,8 @@ cv::Mat loadViewLabels(const std::string& stage, const Dataset& dataset, const V
 }  // namespace
 
 ImageVotes imageVotes(const std::string& stage, Context& ctx, const VisibilityOptions& options,
-                      const LabelSet& labels, int image_chunk, const ScanOcclusionOptions* scan) {
+                      const LabelSet& labels, int image_chunk, const ScanOcclusionOptions* scan,
+                      const std::string& image_masks, int masks_dilate_px) {
     const Dataset& dataset = ctx.dataset();
     ImageVotes out;
     // The views of the tile in a tiled run (Context::views), else every view.
@@ -134,8 +136,14 @@ ImageVotes imageVotes(const std::string& stage, Context& ctx, const VisibilityOp
         }
         shared.max_view_angle_deg = options.max_view_angle_deg;
     }
-    const Visibility& visibility = shared.visibility;
     out.scan_hidden = shared.scan_hidden_cos.size();
+    if (!image_masks.empty()) {
+        // Pixels the user marked (e.g. a 2D detector's moving objects) vote for no face.
+        out.masked = removeMaskedObservations(shared.visibility, views,
+                                              directoryViewMasks(dataset, views, image_masks),
+                                              masks_dilate_px);
+    }
+    const Visibility& visibility = shared.visibility;
     out.visibility_s = step.elapsedSeconds();
 
     step.reset();
@@ -145,8 +153,9 @@ ImageVotes imageVotes(const std::string& stage, Context& ctx, const VisibilityOp
     out.views = views.size();
     out.observations = visibility.obs.size();
     out.votes_s = step.elapsedSeconds();
-    // texture.mrf after this stage may see the same faces from the same views.
-    ctx.keepVisibility(key, std::move(shared));
+    // texture.mrf after this stage may see the same faces from the same views (not after the
+    // masks changed them).
+    if (image_masks.empty()) ctx.keepVisibility(key, std::move(shared));
     return out;
 }
 

@@ -52,6 +52,7 @@ struct ImageVotes {
     std::size_t observations = 0;
     std::size_t scan_hidden = 0;  ///< observations the nearest-in-time scan hid (not voted)
     bool visibility_reused = false;  ///< taken from an earlier stage (Context::takeVisibility)
+    std::size_t masked = 0;          ///< observations on masked pixels (image_masks)
     double visibility_s = 0, votes_s = 0;
 };
 
@@ -59,10 +60,13 @@ struct ImageVotes {
 /// tile's occluder mesh hides faces), then area-weighted centre-pixel votes (paper Eq. 4),
 /// `image_chunk` images in memory at once. With `scan` (non-null), a view does not vote for a
 /// face that the LiDAR scan nearest in time to its image hides (removeScanOccluded). A semantic
-/// image of another size than its camera is an error naming the file and both sizes.
+/// image of another size than its camera is an error naming the file and both sizes. With
+/// `image_masks` (a folder, directoryViewMasks), a view does not vote for a face that touches
+/// its mask (removeMaskedObservations, `masks_dilate_px`).
 ImageVotes imageVotes(const std::string& stage, Context& ctx, const VisibilityOptions& options,
                       const LabelSet& labels, int image_chunk,
-                      const ScanOcclusionOptions* scan = nullptr);
+                      const ScanOcclusionOptions* scan = nullptr,
+                      const std::string& image_masks = "", int masks_dilate_px = 2);
 
 /// What the LiDAR phase produced.
 struct LidarVoteResult {

@@ -108,6 +108,16 @@ TEST_CASE("bad input: texture image masks that are no folder, or of the wrong si
     CHECK_THAT(log, Contains((masks / "000001.png").string()) && Contains("7 x 5") &&
                         Contains("1242 x 375"));
     CHECK(!fs::exists(workDir() / "out_masks_small" / "textured" / "mesh.obj"));
+    // semantic.mrf reads masks by the same rule.
+    const fs::path semantic = writeConfig("image_masks_semantic", seq, "semantic",
+                                          std::string(kMeshStages) + "  - {stage: semantic.mrf}\n");
+    CHECK(run(semantic, "out_masks_semantic_missing", &log,
+              {"--set", "semantic.mrf.image_masks=" + missing.string()}) == 2);
+    CHECK_THAT(log, Contains("semantic.mrf") && Contains("image_masks") &&
+                        Contains(missing.string()));
+    CHECK(run(semantic, "out_masks_semantic_small", &log,
+              {"--set", "semantic.mrf.image_masks=" + masks.string()}) == 1);
+    CHECK_THAT(log, Contains((masks / "000001.png").string()) && Contains("7 x 5"));
 }
 
 TEST_CASE("bad input: a 3-channel semantic image is an error saying one channel is needed",
