@@ -15,11 +15,11 @@
 #include "vdbmap/map/Layers.h"
 #include "vdbmap/mesh/MeshArrays.h"
 #include "vdbmap/pipeline/Context.h"
+#include "vdbmap/pipeline/StageVisibility.h"
 #include "vdbmap/pipeline/Tiling.h"
 #include "vdbmap/dynamic/MovingReturns.h"
 #include "vdbmap/render/ImageMasks.h"
 #include "vdbmap/render/ScanOcclusion.h"
-#include "vdbmap/render/VisibilityKey.h"
 #include "vdbmap/render/VisibilitySetup.h"
 
 namespace vdbmap::semantic {
@@ -111,31 +111,11 @@ ImageVotes imageVotes(const std::string& stage, Context& ctx, const VisibilityOp
     }
     Timer step;
     // texture.mrf before or after this stage sees the same faces from the same views: the
-    // visibility one computed serves the other when the inputs are the same and the view angle
-    // it was computed with is at least as wide (Context::keepVisibility, takeVisibility).
+    // visibility one computed serves the other (stageVisibility, Context::keepVisibility).
     const MeshArrays mesh = meshArrays(ctx.mesh(), DeletedFaces::Collapse);
-    const auto moving = ctx.movingReturns();
-    const std::string key =
-        visibilityKey(mesh, ctx.occluderMesh(), views, options, scan, moving.get());
-    SharedVisibility shared;
-    if (auto kept = ctx.takeVisibility(key, options.max_view_angle_deg)) {
-        shared = std::move(*kept);
-        out.visibility_reused = true;
-    } else {
-        shared.visibility = meshVisibility(ctx.mesh(), views, options, stage + " visibility",
-                                           ctx.quiet(), &ctx.occluderMesh());
-        if (scan) {
-            // No vote from a view for a face something in front hid then (a moving car).
-            Progress progress(stage + " scan occlusion", views.size(), ctx.quiet());
-            // The returns removed as moving hide by a tighter rule (ScanOcclusionOptions::moving_*).
-            removeScanOccluded(shared.visibility, mesh, views, datasetViewScans(dataset, views),
-                               *scan, &progress,
-                               moving ? movingViewScans(dataset, views, *moving) : ViewScanFn{},
-                               &shared.scan_hidden_cos);
-            progress.finish();
-        }
-        shared.max_view_angle_deg = options.max_view_angle_deg;
-    }
+    StageVisibility seen = stageVisibility(ctx, mesh, views, options, scan, stage);
+    SharedVisibility& shared = seen.shared;
+    out.visibility_reused = seen.reused;
     out.scan_hidden = shared.scan_hidden_cos.size();
     if (!image_masks.empty()) {
         // Pixels the user marked (e.g. a 2D detector's moving objects) vote for no face.
@@ -155,7 +135,7 @@ ImageVotes imageVotes(const std::string& stage, Context& ctx, const VisibilityOp
     out.votes_s = step.elapsedSeconds();
     // texture.mrf after this stage may see the same faces from the same views (not after the
     // masks changed them).
-    if (image_masks.empty()) ctx.keepVisibility(key, std::move(shared));
+    if (image_masks.empty()) ctx.keepVisibility(seen.key, std::move(shared));
     return out;
 }
 

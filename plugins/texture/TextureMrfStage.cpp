@@ -16,6 +16,7 @@
 #include "vdbmap/mesh/MeshAdjacency.h"
 #include "vdbmap/mrf/PottsMrf.h"
 #include "vdbmap/pipeline/Context.h"
+#include "vdbmap/pipeline/StageVisibility.h"
 #include "vdbmap/pipeline/Report.h"
 #include "vdbmap/pipeline/Tiling.h"
 #include "vdbmap/core/Progress.h"
@@ -24,7 +25,6 @@
 #include "vdbmap/render/ImageMasks.h"
 #include "vdbmap/render/ScanOcclusion.h"
 #include "vdbmap/render/Visibility.h"
-#include "vdbmap/render/VisibilityKey.h"
 #include "vdbmap/render/VisibilitySetup.h"
 
 namespace vdbmap::texture {
@@ -125,23 +125,23 @@ void TextureMrfStage::declareOptions(OptionSpec& spec) {
     spec.add("scan_occlusion_margin_m",
              "Scan occlusion: a return hides a face at depth z when nearer than "
              "z * (1 - scan_occlusion_margin_rel) - this",
-             scan_margin_m_, 0.3, "m");
+             scan_.margin_m, 0.3, "m");
     spec.add("scan_occlusion_margin_rel", "Scan occlusion: relative depth margin (see _margin_m)",
-             scan_margin_rel_, 0.1);
+             scan_.margin_rel, 0.1);
     spec.add("scan_occlusion_dilate_px",
              "Scan occlusion: radius of the min filter along image rows that closes the gaps "
              "between a ring's returns",
-             scan_dilate_px_, 2, "px");
+             scan_.row_dilate_px, 2, "px");
     spec.add("scan_occlusion_gap_px",
              "Scan occlusion: the empty pixels of a column between two returns at most this many "
              "empty rows apart take the farther return (the gap between two rings)",
-             scan_gap_px_, 8, "px");
+             scan_.gap_px, 8, "px");
     spec.add("scan_occlusion_moving_margin_m",
              "Scan occlusion: a return removed as moving (integrate.atsdf dynamic_removal) hides "
              "a face at depth z when nearer than z - this (it cannot be the face itself)",
-             scan_moving_margin_m_, 0.1, "m");
+             scan_.moving_margin_m, 0.1, "m");
     spec.add("scan_occlusion_moving_dilate_px",
-             "Scan occlusion: radius of the min filter over the moving returns", scan_moving_dilate_px_,
+             "Scan occlusion: radius of the min filter over the moving returns", scan_.moving_dilate_px,
              6, "px");
     spec.add("image_masks",
              "Folder of per-image masks (8-bit grey, the image's size and file name; in "
@@ -203,17 +203,17 @@ void TextureMrfStage::initialize() {
         failConfig("option 'seam_space' must be 'log_luminance', 'log_bgr' or 'bgr', got '" +
                    seam_space_ + "'");
     }
-    if (scan_margin_m_ < 0 || !(scan_margin_rel_ >= 0 && scan_margin_rel_ < 1) ||
-        scan_dilate_px_ < 0 || scan_dilate_px_ > 32 || scan_gap_px_ < 0 || scan_gap_px_ > 64) {
+    if (scan_.margin_m < 0 || !(scan_.margin_rel >= 0 && scan_.margin_rel < 1) ||
+        scan_.row_dilate_px < 0 || scan_.row_dilate_px > 32 || scan_.gap_px < 0 || scan_.gap_px > 64) {
         failConfig("options 'scan_occlusion_margin_m' >= 0, 'scan_occlusion_margin_rel' in [0, 1), "
                    "'scan_occlusion_dilate_px' in [0, 32] and 'scan_occlusion_gap_px' in [0, 64], got " +
-                   std::to_string(scan_margin_m_) + ", " + std::to_string(scan_margin_rel_) +
-                   ", " + std::to_string(scan_dilate_px_) + ", " + std::to_string(scan_gap_px_));
+                   std::to_string(scan_.margin_m) + ", " + std::to_string(scan_.margin_rel) +
+                   ", " + std::to_string(scan_.row_dilate_px) + ", " + std::to_string(scan_.gap_px));
     }
-    if (!(scan_moving_margin_m_ >= 0) || scan_moving_dilate_px_ < 0 || scan_moving_dilate_px_ > 32) {
+    if (!(scan_.moving_margin_m >= 0) || scan_.moving_dilate_px < 0 || scan_.moving_dilate_px > 32) {
         failConfig("options 'scan_occlusion_moving_margin_m' >= 0 and "
                    "'scan_occlusion_moving_dilate_px' in [0, 32], got " +
-                   std::to_string(scan_moving_margin_m_) + ", " + std::to_string(scan_moving_dilate_px_));
+                   std::to_string(scan_.moving_margin_m) + ", " + std::to_string(scan_.moving_dilate_px));
     }
     if (image_masks_dilate_px_ < 0 || image_masks_dilate_px_ > 32) {
         failConfig("option 'image_masks_dilate_px' must be in [0, 32], got " +
@@ -240,17 +240,6 @@ void TextureMrfStage::declareLayers(LayerSpec& spec) const {
     spec.reads(layers::kMesh);
     spec.reads(layers::kImages);
     spec.writes(layers::kTexture);
-}
-
-ScanOcclusionOptions TextureMrfStage::scanOcclusionOptions() const {
-    ScanOcclusionOptions scan;
-    scan.margin_m = scan_margin_m_;
-    scan.margin_rel = scan_margin_rel_;
-    scan.row_dilate_px = scan_dilate_px_;
-    scan.gap_px = scan_gap_px_;
-    scan.moving_margin_m = scan_moving_margin_m_;
-    scan.moving_dilate_px = scan_moving_dilate_px_;
-    return scan;
 }
 
 TextureOptions TextureMrfStage::textureOptions(std::size_t num_cameras, bool quiet) const {
@@ -410,37 +399,14 @@ void TextureMrfStage::run(Context& ctx) {
     vis_options.min_depth_m = min_depth_m_;
     vis_options.max_depth_m = max_depth_m_;
     vis_options.occlusion_test = occlusion_test_;
-    // texture.mrf and semantic.mrf see the same faces from the same views: whichever runs
-    // second takes the first one's visibility when its inputs are the same and its view angle
-    // at least as wide (Context::takeVisibility).
-    const ScanOcclusionOptions scan_options = scanOcclusionOptions();
-    const auto moving = ctx.movingReturns();
-    const std::string visibility_key =
-        visibilityKey(mesh, ctx.occluderMesh(), views, vis_options,
-                      scan_occlusion_ ? &scan_options : nullptr, moving.get());
-    SharedVisibility shared;
-    if (auto kept = ctx.takeVisibility(visibility_key, vis_options.max_view_angle_deg)) {
-        shared = std::move(*kept);
-        report.stage(stage, "visibility_reused", true);
-    } else {
-        shared.visibility = meshVisibility(tri_mesh, views, vis_options, stage + " visibility",
-                                           ctx.quiet(), &ctx.occluderMesh());
-        if (scan_occlusion_) {
-            // A view must not texture a face that something in front hid when the image was
-            // taken, even if the map lacks it (a moving car): the scan nearest in time tells.
-            Timer scan_timer;
-            Progress progress(stage + " scan occlusion", views.size(), ctx.quiet());
-            // The returns removed as moving hide by a tighter rule (ScanOcclusionOptions::moving_*).
-            removeScanOccluded(shared.visibility, mesh, views, datasetViewScans(dataset, views),
-                               scan_options, &progress,
-                               moving ? movingViewScans(dataset, views, *moving) : ViewScanFn{},
-                               &shared.scan_hidden_cos);
-            progress.finish();
-            report.set({"stages", stage, "timings_s", "scan_occlusion"},
-                       scan_timer.elapsedSeconds());
-        }
-        shared.max_view_angle_deg = vis_options.max_view_angle_deg;
-        report.stage(stage, "visibility_reused", false);
+    // texture.mrf and semantic.mrf see the same faces from the same views: the visibility one
+    // computed serves the other (stageVisibility, Context::keepVisibility).
+    StageVisibility seen = stageVisibility(ctx, mesh, views, vis_options,
+                                           scan_occlusion_ ? &scan_ : nullptr, stage);
+    report.stage(stage, "visibility_reused", seen.reused);
+    SharedVisibility& shared = seen.shared;
+    if (scan_occlusion_) {
+        report.set({"stages", stage, "timings_s", "scan_occlusion"}, seen.scan_occlusion_s);
     }
     Visibility& vis = shared.visibility;
     if (scan_occlusion_) {
@@ -478,7 +444,7 @@ void TextureMrfStage::run(Context& ctx) {
     };
     TextureResult result = textureMesh(mesh, views, vis, adjacency, load, options);
     // Hand the visibility on to a later stage (semantic.mrf) unless the masks changed it.
-    if (image_masks_.empty()) ctx.keepVisibility(visibility_key, std::move(shared));
+    if (image_masks_.empty()) ctx.keepVisibility(seen.key, std::move(shared));
 
     setTextureLayer(tri_mesh, result);
 

@@ -30,8 +30,6 @@ public:
     void run(Context& ctx) override;
 
 private:
-    /// The scan occlusion test's options from the stage options.
-    ScanOcclusionOptions scanOcclusionOptions() const;
     /// Phase: the TextureOptions of the stage options for `num_cameras` cameras.
     TextureOptions textureOptions(std::size_t num_cameras, bool quiet) const;
     /// Phase: counts, timings and the vignetting used into report.json.
@@ -46,12 +44,7 @@ private:
     bool estimate_vignetting_ = false;
     std::string exposure_gains_ = "auto";
     bool scan_occlusion_ = true;
-    double scan_margin_m_ = 0.3;
-    double scan_margin_rel_ = 0.1;
-    int scan_dilate_px_ = 2;
-    int scan_gap_px_ = 8;
-    double scan_moving_margin_m_ = 0.1;
-    int scan_moving_dilate_px_ = 6;
+    ScanOcclusionOptions scan_;
     std::string image_masks_;
     int image_masks_dilate_px_ = 2;
     std::string seam_space_ = "log_luminance";
