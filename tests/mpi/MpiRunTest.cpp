@@ -194,6 +194,47 @@ TEST_CASE("mpirun -np 3 writes the tiles, index and map of the single-process ru
     CHECK(dyn["scans_adopted"].get<std::size_t>() <= frames0);
 }
 
+TEST_CASE("map_vdb: per_tile under mpirun -np 3: each rank writes its tiles' map.vdb, nothing gathered",
+          "[mpi][tiles][map]") {
+    // Each rank drops the leaves none of its tiles still reads, and writes its tiles' own
+    // map.vdb: the single-process run's, grid for grid.
+    const fs::path seq = sequence();
+    const fs::path config =
+        writeConfig(workDir() / "per_tile.yaml", seq, 12.8, "", ", map_vdb: per_tile");
+    const fs::path single = workDir() / "per_tile_single", mpi = workDir() / "per_tile_mpi3";
+    fs::remove_all(single);
+    fs::remove_all(mpi);
+    runSingle(config, single);
+    Child three(VDBMAP_MPIEXEC, mpiArgs(3, config, mpi), mpiEnv());
+    INFO(three.log());
+    REQUIRE(three.exitCode() == 0);
+
+    const auto a = filesBelow(single / "tiles");
+    const auto b = filesBelow(mpi / "tiles");
+    CHECK(a.size() == b.size());
+    std::size_t maps = 0;
+    for (const auto& [file, bytes] : a) {
+        INFO(file);
+        REQUIRE(b.count(file) == 1);
+        if (fs::path(file).filename() == "map.vdb") {  // a .vdb file holds a random UUID
+            CHECK(vdbVoxels(single / "tiles" / file) == vdbVoxels(mpi / "tiles" / file));
+            ++maps;
+        } else {
+            CHECK(b.at(file) == bytes);
+        }
+    }
+    const nlohmann::json index = nlohmann::json::parse(readText(mpi / "tiles.json"));
+    CHECK(maps == index["tiles"].size());
+    CHECK(maps > 3);
+    CHECK(readText(single / "tiles.json") == readText(mpi / "tiles.json"));
+    CHECK_FALSE(fs::exists(mpi / "map.vdb"));
+    CHECK_FALSE(fs::exists(single / "map.vdb"));
+    const nlohmann::json report = nlohmann::json::parse(readText(mpi / "report.json"));
+    const nlohmann::json report_one = nlohmann::json::parse(readText(single / "report.json"));
+    CHECK(report["counts"]["active_voxels"] == report_one["counts"]["active_voxels"]);
+    CHECK(report_one["counts"]["active_voxels"].get<std::size_t>() > 0);
+}
+
 TEST_CASE("A tile worked in pieces under mpirun -np 2: the single-process run's pieces, byte for byte",
           "[mpi][tiles][split][heavy]") {
     // The largest tile's estimate from a run with a budget above every tile, then a budget

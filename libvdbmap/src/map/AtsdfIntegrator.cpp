@@ -280,6 +280,7 @@ AtsdfIntegrator::AtsdfIntegrator(VoxelMap& map, const AtsdfConfig& config)
            << " exceeds the map's weight range " << codec.weightRange();
         throw ConfigError(os.str());
     }
+    describeMap();
 }
 
 AtsdfIntegrator::~AtsdfIntegrator() = default;
@@ -952,10 +953,9 @@ IntegrationStats AtsdfIntegrator::integrateInWorld(const std::vector<Vec3f>& poi
     return st;
 }
 
-void AtsdfIntegrator::finalize() {
-    map_.compact();
-    // The per-voxel truncation grid is derived from the block statistics when map.vdb is
-    // written (VoxelMap::truncationGrid), so it costs no memory while the map is in use.
+void AtsdfIntegrator::describeMap() {
+    // The settings the map was made with; set from the start, so that a tile's own map.vdb,
+    // written while the scans still come in (tiling.map_vdb: per_tile), carries them too.
     openvdb::MetaMap& meta = map_.metadata();
     meta.insertMeta("voxel_size_m", openvdb::DoubleMetadata(map_.voxelSize()));
     meta.insertMeta("truncation_mode",
@@ -973,7 +973,15 @@ void AtsdfIntegrator::finalize() {
     meta.insertMeta("falloff_m", openvdb::DoubleMetadata(config_.falloff_m));
     meta.insertMeta("max_weight", openvdb::DoubleMetadata(config_.max_weight));
     meta.insertMeta("space_carving", openvdb::BoolMetadata(config_.space_carving));
-    meta.insertMeta("scans_integrated", openvdb::Int64Metadata(static_cast<std::int64_t>(totals_.scans)));
+}
+
+void AtsdfIntegrator::finalize() {
+    map_.compact();
+    // The per-voxel truncation grid is derived from the block statistics when map.vdb is
+    // written (VoxelMap::truncationGrid), so it costs no memory while the map is in use.
+    describeMap();
+    map_.metadata().insertMeta("scans_integrated",
+                               openvdb::Int64Metadata(static_cast<std::int64_t>(totals_.scans)));
 }
 
 }  // namespace vdbmap

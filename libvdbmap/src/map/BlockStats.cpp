@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "vdbmap/map/BlockStats.h"
 
+#include <openvdb/tools/Prune.h>
+
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
@@ -99,6 +101,26 @@ std::int32_t BlockStatsGrid::findOrCreate(const openvdb::Coord& block) {
     coords_.push_back(block);
     index_tree_.setValueOn(block, index);
     return index;
+}
+
+std::size_t BlockStatsGrid::eraseIf(const std::function<bool(const openvdb::Coord& block)>& erase) {
+    if (std::none_of(coords_.begin(), coords_.end(), erase)) return 0;
+    std::vector<BlockEntry> entries;
+    std::vector<openvdb::Coord> coords;
+    for (std::size_t i = 0; i < entries_.size(); ++i) {
+        if (erase(coords_[i])) {
+            index_tree_.setValueOff(coords_[i], -1);
+            continue;
+        }
+        index_tree_.setValueOn(coords_[i], static_cast<std::int32_t>(entries.size()));
+        entries.push_back(entries_[i]);
+        coords.push_back(coords_[i]);
+    }
+    const std::size_t erased = entries_.size() - entries.size();
+    entries_.swap(entries);
+    coords_.swap(coords);
+    openvdb::tools::pruneInactive(index_tree_);
+    return erased;
 }
 
 std::size_t BlockStatsGrid::memoryBytes() const {

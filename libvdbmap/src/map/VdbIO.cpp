@@ -115,4 +115,30 @@ void writeMapVdb(const std::filesystem::path& path, const VoxelMap& map) {
         mapVdbMetadata(map));
 }
 
+std::size_t writeMapVdbPart(const std::filesystem::path& path, const VoxelMap& map,
+                            const std::function<bool(const openvdb::Coord&)>& keep,
+                            const openvdb::MetaMap& meta) {
+    openvdb::MetaMap file_meta = mapVdbMetadata(map);
+    file_meta.removeMeta("scans_integrated");  // the whole run's, not the part's
+    for (auto it = meta.beginMeta(); it != meta.endMeta(); ++it) {
+        file_meta.insertMeta(it->first, *it->second);
+    }
+    const auto eps_max = map.metadata().getMetadata<openvdb::DoubleMetadata>("truncation_max_m");
+    std::size_t voxels = 0;
+    writeVdbGridsOneByOne(
+        path, eps_max ? 3 : 2,
+        [&](int i) -> openvdb::GridBase::Ptr {
+            if (i == 0) {
+                openvdb::FloatGrid::Ptr surface = map.surfaceGrid(keep);
+                surface->setSaveFloatAsHalf(false);
+                voxels = static_cast<std::size_t>(surface->activeVoxelCount());
+                return surface;
+            }
+            if (i == 1) return map.weightGrid(keep);
+            return map.truncationGrid(static_cast<float>(eps_max->value()), keep);
+        },
+        file_meta);
+    return voxels;
+}
+
 }  // namespace vdbmap

@@ -48,9 +48,15 @@ TsdfCodec checkedCodec(double voxel_size_m, float sdf_range_m, float weight_rang
 /// fill(leaf view, float leaf) sets the values of the float leaf's active voxels (in parallel
 /// over leaves).
 template <typename Fill>
-openvdb::FloatGrid::Ptr decodedGrid(const VoxelMap& map, float background, Fill&& fill) {
+openvdb::FloatGrid::Ptr decodedGrid(const VoxelMap& map, float background,
+                                    const VoxelMap::LeafFilter& keep, Fill&& fill) {
     auto tree = std::make_shared<openvdb::FloatTree>(background);
-    const std::vector<TsdfLeafView> views = map.leafViews();
+    std::vector<TsdfLeafView> views = map.leafViews();
+    if (keep) {
+        views.erase(std::remove_if(views.begin(), views.end(),
+                                   [&](const TsdfLeafView& v) { return !keep(v.origin); }),
+                    views.end());
+    }
     std::vector<openvdb::FloatTree::LeafNodeType*> leaves(views.size());
     {
         openvdb::tree::ValueAccessor<openvdb::FloatTree> acc(*tree);
@@ -188,8 +194,8 @@ std::size_t VoxelMap::tsdfMemoryBytes() const {
     return static_cast<std::size_t>(tsdf_->memUsage()) + compact_->memoryBytes();
 }
 
-openvdb::FloatGrid::Ptr VoxelMap::surfaceGrid() const {
-    auto grid = decodedGrid(*this, codec_.sdfRange(), [&](const TsdfLeafView& packed, auto& leaf) {
+openvdb::FloatGrid::Ptr VoxelMap::surfaceGrid(const LeafFilter& keep) const {
+    auto grid = decodedGrid(*this, codec_.sdfRange(), keep, [&](const TsdfLeafView& packed, auto& leaf) {
         for (auto it = leaf.beginValueOn(); it; ++it) it.setValue(codec_.sdf(packed.value(it.pos())));
     });
     grid->setName(grids::kSurface);
@@ -197,16 +203,16 @@ openvdb::FloatGrid::Ptr VoxelMap::surfaceGrid() const {
     return grid;
 }
 
-openvdb::FloatGrid::Ptr VoxelMap::weightGrid() const {
-    auto grid = decodedGrid(*this, 0.0f, [&](const TsdfLeafView& packed, auto& leaf) {
+openvdb::FloatGrid::Ptr VoxelMap::weightGrid(const LeafFilter& keep) const {
+    auto grid = decodedGrid(*this, 0.0f, keep, [&](const TsdfLeafView& packed, auto& leaf) {
         for (auto it = leaf.beginValueOn(); it; ++it) it.setValue(codec_.weight(packed.value(it.pos())));
     });
     grid->setName(grids::kWeight);
     return grid;
 }
 
-openvdb::FloatGrid::Ptr VoxelMap::truncationGrid(float no_block_m) const {
-    auto grid = decodedGrid(*this, no_block_m, [&](const TsdfLeafView&, auto& leaf) {
+openvdb::FloatGrid::Ptr VoxelMap::truncationGrid(float no_block_m, const LeafFilter& keep) const {
+    auto grid = decodedGrid(*this, no_block_m, keep, [&](const TsdfLeafView&, auto& leaf) {
         const std::int32_t slot = block_stats_->find(BlockStatsGrid::blockOf(leaf.origin()));
         const float eps = slot >= 0 ? block_stats_->entry(slot).truncation_m : no_block_m;
         for (auto it = leaf.beginValueOn(); it; ++it) it.setValue(eps);
@@ -214,6 +220,32 @@ openvdb::FloatGrid::Ptr VoxelMap::truncationGrid(float no_block_m) const {
     grid->setName(grids::kTruncation);
     grid->setGridClass(openvdb::GRID_FOG_VOLUME);
     return grid;
+}
+
+std::size_t VoxelMap::dropLeaves(const LeafFilter& drop) {
+    if (!drop) return 0;
+    // The working tree: switched off, then pruned away (as retireWorking does).
+    TsdfTree& tree = tsdf_->tree();
+    std::vector<TsdfLeaf*> dense;
+    tree.getNodes(dense);
+    std::size_t n = 0;
+    for (TsdfLeaf* leaf : dense) {
+        if (!drop(leaf->origin())) continue;
+        leaf->setValuesOff();
+        ++n;
+    }
+    if (n > 0) openvdb::tools::pruneInactive(tree, /*threaded=*/false);
+    // The compact store, then the block statistics of the same leaves.
+    std::vector<openvdb::Coord> gone;
+    for (const TsdfLeafView& v : compact_->views()) {
+        if (v.mask != nullptr && drop(v.origin)) gone.push_back(v.origin);
+    }
+    for (const openvdb::Coord& o : gone) compact_->erase(o);
+    if (n + gone.size() > 0) compact_->prune();  // also the topology of dropped working leaves
+    block_stats_->eraseIf([&](const openvdb::Coord& block) {
+        return drop(openvdb::Coord(block.x() * 8, block.y() * 8, block.z() * 8));
+    });
+    return n + gone.size();
 }
 
 void VoxelMap::setExtraGrid(const std::string& name, openvdb::GridBase::Ptr grid) {

@@ -46,7 +46,10 @@ namespace detail {
 /// The layers an opened dataset provides: scans, plus images / semantic_images when present.
 std::vector<std::string> datasetLayers(const Dataset& dataset);
 /// Writes map.vdb / mesh.ply as `output` says and adds their counts to the report.
-void writePipelineOutputs(class Context& ctx, const OutputConfig& output, Report& report);
+/// `map_per_tile` (tiling.map_vdb: per_tile): the tiles wrote their own map.vdb, and the map
+/// left in memory is not the whole map: no map.vdb, no map counts here (tilesIndex counts).
+void writePipelineOutputs(class Context& ctx, const OutputConfig& output, Report& report,
+                          bool map_per_tile = false);
 
 /// Runs stage `index` (of `count`) in `ctx`: logs, times it into ctx.report()
 /// (stages.<name>.wall_time_s; `timings` gets an entry if given). `current` names it.

@@ -9,8 +9,9 @@
 
 namespace vdbmap::detail {
 
-void writePipelineOutputs(Context& ctx, const OutputConfig& output, Report& report) {
-    if (ctx.hasMap()) {
+void writePipelineOutputs(Context& ctx, const OutputConfig& output, Report& report,
+                          bool map_per_tile) {
+    if (ctx.hasMap() && !map_per_tile) {
         const VoxelMap& map = ctx.map();
         report.set({"counts", "active_voxels"}, map.activeVoxelCount());
         report.set({"counts", "voxel_size_m"}, map.voxelSize());

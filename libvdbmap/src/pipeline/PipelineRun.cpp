@@ -345,6 +345,7 @@ private:
         }
         if (tiled) {
             report_.setJson({"tiling", "in_flight"}, stream_->inFlightJson());
+            if (p_.tiling.mapPerTile()) report_.setJson({"tiling", "map_drop"}, stream_->mapDropJson());
             if (p_.tiling.merge) mergeUntiled(untiled_end);
         }
     }
@@ -490,7 +491,9 @@ private:
             processes.push_back(s);
         }
         if (distributed()) report_.setJson({"distributed", "process"}, processes.dump());
-        if (!distributed()) detail::writePipelineOutputs(*ctx_, p_.output, report_);
+        if (!distributed()) {
+            detail::writePipelineOutputs(*ctx_, p_.output, report_, stream_ && p_.tiling.mapPerTile());
+        }
         finishStages(outcomes);
         if (stream_) {
             const std::string index =
@@ -592,7 +595,8 @@ private:
     /// Distributed runs: every process sends the leaves of its own tiles, process 0 merges
     /// them and writes the one map.vdb.
     void gatherMap() {
-        if (!distributed() || !p_.output.write_map) return;
+        // tiling.map_vdb: per_tile: each process wrote its tiles' own map.vdb; nothing to gather.
+        if (!distributed() || !p_.output.write_map || p_.tiling.mapPerTile()) return;
         std::string part;
         if (ctx_ && ctx_->hasMap() && stream_ && stream_->begun()) {
             const TilePlan& plan = stream_->plan();

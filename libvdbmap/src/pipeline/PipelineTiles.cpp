@@ -14,6 +14,7 @@
 #include "vdbmap/core/Progress.h"
 #include "vdbmap/core/Timer.h"
 #include "vdbmap/io/MeshIO.h"
+#include "vdbmap/map/VdbIO.h"
 #include "vdbmap/map/VoxelMap.h"
 #include "pipeline/TileTasks.h"
 #include "vdbmap/mesh/TileFaces.h"
@@ -89,10 +90,11 @@ void reportSplits(const nlohmann::json& report_tiles, Report& report) {
 
 TileRun::TileRun(std::vector<PipelineStage>& stages, std::size_t first, std::size_t async_from,
                  const OutputConfig& output, Context& ctx, std::shared_ptr<const Tile> tile,
-                 long finished_after_frame, bool memory_window)
+                 long finished_after_frame, bool memory_window, bool tile_map_vdb)
     : stages_(stages), first_(first), async_from_(std::max(first, async_from)), output_(output),
       ctx_(ctx), tile_(std::move(tile)), finished_after_frame_(finished_after_frame),
-      memory_window_(memory_window), dir_(ctx.outputDir() / "tiles" / tile_->name()) {}
+      memory_window_(memory_window), tile_map_vdb_(tile_map_vdb),
+      dir_(ctx.outputDir() / "tiles" / tile_->name()) {}
 
 TileRun::~TileRun() = default;
 
@@ -119,6 +121,7 @@ void TileRun::runMapStages(std::string& current) {
         cpu_before_ = processCpuTimeS();
         tctx_ = ContextBuilder::tileContext(ctx_, dir_, report_, tile_);
         runStages(first_, async_from_, current);
+        if (tile_map_vdb_ && !stopped_ && output_.write_map && ctx_.hasMap()) writeTileMap();
         // The later stages may run beside the integration: they get a map without voxels (its
         // voxel size and transform only), never the map being integrated (docs/tiling.md).
         if (ctx_.hasMap()) {
@@ -129,6 +132,18 @@ void TileRun::runMapStages(std::string& current) {
         current = "tile " + tile_->name() + " / " + current;
         rethrowInTile(e, tile_->name(), stage);
     }
+}
+
+void TileRun::writeTileMap() {
+    Timer timer;
+    const MeshRegion& core = tile_->region;
+    const auto in_core = [&core](const openvdb::Coord& origin) {
+        return core.inCore(origin[core.axes[0]], origin[core.axes[1]]);
+    };
+    openvdb::MetaMap meta;
+    meta.insertMeta("tile", openvdb::StringMetadata(tile_->name()));
+    map_voxels_ = writeMapVdbPart(dir_ / "map.vdb", ctx_.map(), in_core, meta);
+    map_write_s_ = timer.elapsedSeconds();
 }
 
 std::size_t TileRun::estimateBytes() const {
@@ -209,6 +224,11 @@ TileOutcome TileRun::finishStages(std::string& current) {
                              {"cpu_time_s", cpu_seconds},
                              {"memory_estimate_bytes", estimate},
                              {"stages", stage_figures}};
+    if (tile_map_vdb_ && output_.write_map) {
+        index["counts"]["map_voxels"] = map_voxels_;
+        report["map_voxels"] = map_voxels_;
+        report["map_vdb_write_s"] = map_write_s_;
+    }
     if (!tile.piece.empty()) {
         // A piece of a tile over the memory budget (TileStream::splits: the estimates that
         // exceeded it) or cut for balance by the plan (TilePlanOptions::split_for_processes).
@@ -251,7 +271,7 @@ std::string tilesIndex(std::vector<TileOutcome> outcomes, const TileSummary& sum
     nlohmann::json index_tiles = nlohmann::json::array();
     nlohmann::json report_tiles = nlohmann::json::object();
     nlohmann::json stage_totals = nlohmann::json::object();
-    std::size_t faces = 0, halo_faces = 0, peak_tile = 0;
+    std::size_t faces = 0, halo_faces = 0, peak_tile = 0, map_voxels = 0;
     double cpu_s = 0.0;
     for (const TileOutcome& outcome : outcomes) {
         const nlohmann::json tile_report = nlohmann::json::parse(outcome.report_json);
@@ -268,6 +288,13 @@ std::string tilesIndex(std::vector<TileOutcome> outcomes, const TileSummary& sum
         }
         report_tiles[outcome.name] = tile_report;
         index_tiles.push_back(nlohmann::json::parse(outcome.index_json));
+        map_voxels += index_tiles.back()["counts"].value("map_voxels", std::size_t(0));
+    }
+    report.set({"tiling", "map_vdb"}, tiling.map_vdb);
+    if (tiling.mapPerTile()) {
+        // The tiles' own map.vdb files hold the map (their cores' leaves).
+        report.set({"counts", "active_voxels"}, map_voxels);
+        report.set({"counts", "voxel_size_m"}, grid.voxelSize());
     }
     report.setJson({"tiles"}, report_tiles.dump());
     reportSplits(report_tiles, report);

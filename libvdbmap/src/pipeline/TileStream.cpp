@@ -109,6 +109,7 @@ std::vector<std::size_t> TileStream::begin(const Dataset& dataset, double update
     }
     frames_ = plan_->framesOf(setup_.process);
     reportPlan();
+    if (setup_.tiling->mapPerTile() && !setup_.tiling->merge) countReaders();
     // A process of a distributed run integrates only the points that can reach its tiles
     // (issue 37): the others would cost it integration time for leaves it does not own.
     if (setup_.processes > 1) region_.emplace(*grid_, *plan_, setup_.process, update_reach_m);
@@ -226,7 +227,50 @@ void TileStream::finish(const PlannedTile& planned, long after_frame) {
     } else {
         finishTile(std::move(tile), after_frame);
     }
+    dropUnread(planned);
     if (setup_.tile_seconds) *setup_.tile_seconds += timer.elapsedSeconds();
+}
+
+void TileStream::countReaders() {
+    // What finishing a tile reads of the map: fitToMap and the marching cubes over the core
+    // and the halo, the occluder mesh over the occluder margin, one voxel beyond for the cubes
+    // (one leaf). Plus 4 leaves: a scan's update of a leaf there reads the block statistics
+    // of the neighbouring blocks (integrate.atsdf's reach), which must not have been dropped.
+    const std::int32_t reach_vox =
+        std::max(grid_->haloVoxels(), grid_->occluderVoxels()) + 5 * 8;
+    reader_cells_ = static_cast<int>((reach_vox + grid_->tileVoxels() - 1) / grid_->tileVoxels());
+    for (const PlannedTile* t : pending_) {
+        for (int dy = -reader_cells_; dy <= reader_cells_; ++dy)
+            for (int dx = -reader_cells_; dx <= reader_cells_; ++dx) ++readers_[{t->ix + dx, t->iy + dy}];
+    }
+}
+
+void TileStream::dropUnread(const PlannedTile& planned) {
+    if (readers_.empty()) return;
+    for (int dy = -reader_cells_; dy <= reader_cells_; ++dy)
+        for (int dx = -reader_cells_; dx <= reader_cells_; ++dx) --readers_[{planned.ix + dx, planned.iy + dy}];
+    // Only the integrating thread changes the map, between scans; the tiles in flight hold a
+    // map without voxels (TileRun::runMapStages). A cell no tile of this process still reads
+    // is dropped also when a later scan touches it again (another process's tile there).
+    VoxelMap& map = setup_.ctx->map();
+    map_bytes_max_ = std::max(map_bytes_max_, map.tsdfMemoryBytes());
+    const TileGrid& g = *grid_;
+    const auto cellOf = [&g](const openvdb::Coord& origin) {
+        const std::int32_t n = g.tileVoxels();
+        const auto floorDiv = [n](std::int32_t a) { return a >= 0 ? a / n : -((-a + n - 1) / n); };
+        return std::make_pair(floorDiv(origin[g.groundAxis(0)]), floorDiv(origin[g.groundAxis(1)]));
+    };
+    leaves_dropped_ += map.dropLeaves([&](const openvdb::Coord& origin) {
+        const auto it = readers_.find(cellOf(origin));
+        return it == readers_.end() || it->second <= 0;
+    });
+}
+
+std::string TileStream::mapDropJson() const {
+    return nlohmann::json({{"leaves_dropped", leaves_dropped_},
+                           {"map_tsdf_bytes_max", map_bytes_max_},
+                           {"reader_cells", reader_cells_}})
+        .dump();
 }
 
 bool TileStream::splits(const Tile& tile, std::size_t estimate) const {
@@ -247,7 +291,7 @@ void TileStream::finishTile(std::shared_ptr<Tile> tile, long after_frame) {
     const std::size_t async_from = tasks_ ? setup_.async_from : setup_.stages->size();
     auto run = std::make_shared<TileRun>(*setup_.stages, setup_.first, async_from, *setup_.output,
                                          ctx, std::shared_ptr<const Tile>(tile), after_frame,
-                                         !tasks_);
+                                         !tasks_, setup_.tiling->mapPerTile());
     run->runMapStages(*setup_.current);
     const std::size_t estimate = run->estimateBytes();
     if (splits(*tile, estimate)) {

@@ -5,7 +5,9 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -72,7 +74,7 @@ class TileRun {
 public:
     TileRun(std::vector<PipelineStage>& stages, std::size_t first, std::size_t async_from,
             const OutputConfig& output, Context& ctx, std::shared_ptr<const Tile> tile,
-            long finished_after_frame, bool memory_window);
+            long finished_after_frame, bool memory_window, bool tile_map_vdb = false);
     ~TileRun();
     TileRun(const TileRun&) = delete;
     TileRun& operator=(const TileRun&) = delete;
@@ -86,6 +88,9 @@ public:
 private:
     bool runStages(std::size_t from, std::size_t to, std::string& current);
     TileOutcome finishStages(std::string& current);
+    /// tiles/<name>/map.vdb: the leaves of the tile's core (tiling.map_vdb: per_tile), final
+    /// once the tile is finished; on the integrating thread, before the next scan.
+    void writeTileMap();
 
     std::vector<PipelineStage>& stages_;
     const std::size_t first_, async_from_;
@@ -94,7 +99,10 @@ private:
     std::shared_ptr<const Tile> tile_;
     const long finished_after_frame_;
     const bool memory_window_;
+    const bool tile_map_vdb_;
     const std::filesystem::path dir_;
+    std::size_t map_voxels_ = 0;   ///< active voxels of the tile's map.vdb
+    double map_write_s_ = 0.0;
     Report report_;
     std::unique_ptr<Context> tctx_;
     bool stopped_ = false;  ///< no core face: the later stages do not run
@@ -169,6 +177,8 @@ public:
     void abandon() noexcept;
     /// Tiles in flight: the figures (report.json "tiling.in_flight"), as JSON text.
     std::string inFlightJson() const;
+    /// tiling.map_vdb: per_tile: the leaves dropped and the map's largest TSDF size (JSON).
+    std::string mapDropJson() const;
 
     /// The grid (after begin() or finishAll()).
     const TileGrid& grid() const { return *grid_; }
@@ -213,6 +223,14 @@ private:
     void tasksCall(F&& f);
     /// The grid from the tiling config and the map's voxel size (ConfigError for a bad config).
     void makeGrid();
+    /// tiling.map_vdb: per_tile: counts, for every tile cell, this process's planned tiles
+    /// whose finishing reads its leaves (their core grown by the halo or the occluder margin,
+    /// whichever is wider, and one leaf), so that dropUnread() can let the map go behind the
+    /// sensor.
+    void countReaders();
+    /// `planned` is finished: the cells it read have one reader less; the leaves of every
+    /// cell no tile still to come reads leave the map (VoxelMap::dropLeaves).
+    void dropUnread(const PlannedTile& planned);
 
     Setup setup_;
     std::optional<TileGrid> grid_;
@@ -228,6 +246,12 @@ private:
     std::mutex completed_mutex_;  ///< outcomes_, without_faces_, the journal
     std::unique_ptr<TileTasks> tasks_;  ///< max_in_flight > 1
     std::size_t largest_estimate_ = 0;
+    /// Per tile cell (ix, iy): this process's planned tiles still to finish that read it;
+    /// empty unless the map's leaves are dropped (countReaders).
+    std::map<std::pair<int, int>, int> readers_;
+    int reader_cells_ = 0;  ///< cells a tile reads on each side of its own
+    std::size_t leaves_dropped_ = 0;
+    std::size_t map_bytes_max_ = 0;  ///< the map's TSDF bytes before a drop, at most
 };
 
 }  // namespace vdbmap::detail

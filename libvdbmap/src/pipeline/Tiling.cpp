@@ -78,6 +78,11 @@ void TilingConfig::declareOptions(OptionSpec& spec) {
              "set it to the MPI ranks when they outnumber the tiles' work; 0 = never. The "
              "outputs depend on this value, not on the number of processes that run",
              split_for_processes, std::int64_t(0));
+    spec.add("map_vdb",
+             "whole: one map.vdb of the whole map at the end (the map stays in memory until "
+             "then); per_tile: tiles/<name>/map.vdb of each tile's core, written as it is "
+             "finished, and the leaves no later tile reads leave memory (long drives)",
+             map_vdb, std::string("whole"));
 }
 
 void TilingConfig::validate(double voxel_size_m, const std::string& where) const {
@@ -110,6 +115,10 @@ void TilingConfig::validate(double voxel_size_m, const std::string& where) const
     if (up_axis != "auto" && up_axis != "x" && up_axis != "y" && up_axis != "z") {
         throw ConfigError(where + ": tiling: option 'up_axis' must be auto, x, y or z, got '" +
                           up_axis + "'");
+    }
+    if (map_vdb != "whole" && map_vdb != "per_tile") {
+        throw ConfigError(where + ": tiling: option 'map_vdb' must be whole or per_tile, got '" +
+                          map_vdb + "'");
     }
     if (enabled() && voxel_size_m > 0.0) {
         const double leaf_m = kLeafVoxels * voxel_size_m;

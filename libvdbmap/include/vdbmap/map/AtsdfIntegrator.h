@@ -190,6 +190,9 @@ public:
     const IntegrationStats& totals() const { return totals_; }
 
 private:
+    /// The map's metadata of the settings (all of finalize()'s but scans_integrated); set
+    /// from the start, so that a tile's own map.vdb written mid-run carries them.
+    void describeMap();
     VoxelMap& map_;
     AtsdfConfig config_;
     IntegrationStats totals_;

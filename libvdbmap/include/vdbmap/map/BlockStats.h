@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "vdbmap/core/Types.h"
@@ -97,6 +98,9 @@ public:
     const openvdb::Coord& blockCoord(std::int32_t index) const {
         return coords_[static_cast<std::size_t>(index)];
     }
+    /// Removes the entries of the blocks `erase` accepts; the others keep their statistics
+    /// but may get new indices (no index may be held across the call). Returns how many.
+    std::size_t eraseIf(const std::function<bool(const openvdb::Coord& block)>& erase);
     /// The index tree (block resolution).
     const openvdb::Int32Tree& indexTree() const { return index_tree_; }
 

@@ -17,6 +17,15 @@ class VoxelMap;
 /// Throws IoError.
 void writeMapVdb(const std::filesystem::path& path, const VoxelMap& map);
 
+/// One part of the map as a map.vdb of its own (a tile's, tiling.map_vdb: per_tile): the
+/// "surface" and "weight" grids and (when an integrator described the map: metadata
+/// "truncation_max_m") the "truncation" grid of the leaves `keep` accepts (by origin), with
+/// the map's metadata but "scans_integrated" and the entries of `meta` on top. The extra grids
+/// are not written. Atomic. Returns the active voxels written. Throws IoError.
+std::size_t writeMapVdbPart(const std::filesystem::path& path, const VoxelMap& map,
+                            const std::function<bool(const openvdb::Coord&)>& keep,
+                            const openvdb::MetaMap& meta);
+
 /// The grids and the file metadata writeMapVdb writes, for callers that assemble map.vdb
 /// from parts (a distributed run gathers each process's grids): the number of grids, grid i
 /// (decoded on demand: 0 surface, 1 weight, then truncation once an integrator finalized the

@@ -4,6 +4,7 @@
 #include "vdbmap/map/VdbTrees.h"
 
 #include <cstddef>
+#include <functional>
 #include <map>
 #include <memory>
 #include <string>
@@ -32,6 +33,10 @@ class BlockStatsGrid;
 /// Coordinates are world frame W, metres. Voxel (i,j,k) has its centre at (i,j,k)*voxelSize.
 class VoxelMap {
 public:
+    /// Selects 8^3 leaves by their origin (a multiple of 8): the decoded grids of a part of
+    /// the map (a tile's own map.vdb) and the leaves a long drive no longer needs.
+    using LeafFilter = std::function<bool(const openvdb::Coord& origin)>;
+
     /// `sdf_range_m` bounds |D| (the integrator's truncation max must not exceed it) and is the
     /// background distance; `weight_range` bounds W (the integrator's max weight must not
     /// exceed it). Throws InvalidInput if voxel_size_m or a range is not finite and > 0.
@@ -89,12 +94,18 @@ public:
 
     /// Decoded float grids with the topology of the TSDF, for map.vdb (docs/DATA.md) and
     /// inspection: "surface" (level set class, background +sdf range) and "weight" (background 0).
-    openvdb::FloatGrid::Ptr surfaceGrid() const;
-    openvdb::FloatGrid::Ptr weightGrid() const;
+    /// With `keep`: only the leaves it accepts (nullptr or empty: all).
+    openvdb::FloatGrid::Ptr surfaceGrid(const LeafFilter& keep = nullptr) const;
+    openvdb::FloatGrid::Ptr weightGrid(const LeafFilter& keep = nullptr) const;
     /// "truncation": at every active voxel the eps of its 8^3 block after the last scan that
     /// merged points into it, or `no_block_m` for leaves whose block never held a point (they
     /// were written by the updates of a neighbouring block). Fog volume class.
-    openvdb::FloatGrid::Ptr truncationGrid(float no_block_m) const;
+    openvdb::FloatGrid::Ptr truncationGrid(float no_block_m, const LeafFilter& keep = nullptr) const;
+
+    /// Removes the leaves `drop` accepts from both stores, with their block statistics (a
+    /// tiled run drops the leaves that no tile still to come reads, docs/tiling.md). Not
+    /// thread-safe; no scan may be in integration. Returns the TSDF leaves removed.
+    std::size_t dropLeaves(const LeafFilter& drop);
 
     BlockStatsGrid& blockStats() { return *block_stats_; }
     const BlockStatsGrid& blockStats() const { return *block_stats_; }

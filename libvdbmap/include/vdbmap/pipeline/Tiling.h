@@ -46,8 +46,14 @@ struct TilingConfig {
     /// (one tile always runs); 0 = auto (half of MemAvailable at the start of the run). A
     /// tile whose estimate alone exceeds it is worked in pieces (TileGrid::split).
     double memory_budget_gb = 0.0;
+    /// "whole": one map.vdb of the whole map at the end (the map is kept until then);
+    /// "per_tile": each tile writes tiles/<name>/map.vdb (its core's leaves) when it is
+    /// finished, and a streamed run drops the leaves no tile still to come reads, so that the
+    /// map in memory stays that of the tiles around the sensor on a drive of any length.
+    std::string map_vdb = "whole";
 
     bool enabled() const { return tile_size_m > 0.0; }
+    bool mapPerTile() const { return map_vdb == "per_tile"; }
     void declareOptions(OptionSpec& spec);
     /// Throws ConfigError naming the key and the value: negative or non-finite values, a tile
     /// smaller than one voxel leaf (8 voxels of `voxel_size_m`), merge_max_faces < 0.
