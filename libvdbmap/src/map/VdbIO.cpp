@@ -48,16 +48,17 @@ public:
 
 }  // namespace
 
-openvdb::GridBase::Ptr mapVdbGrid(const VoxelMap& map, int i) {
+openvdb::GridBase::Ptr mapVdbGrid(const VoxelMap& map, int i,
+                                  const std::function<bool(const openvdb::Coord&)>& keep) {
     const auto eps_max = map.metadata().getMetadata<openvdb::DoubleMetadata>("truncation_max_m");
     if (i == 0) {
         // Plain float grids decoded from the packed TSDF; names and classes are docs/DATA.md's.
-        openvdb::FloatGrid::Ptr surface = map.surfaceGrid();
+        openvdb::FloatGrid::Ptr surface = map.surfaceGrid(keep);
         surface->setSaveFloatAsHalf(false);
         return surface;
     }
-    if (i == 1) return map.weightGrid();
-    if (eps_max && i == 2) return map.truncationGrid(static_cast<float>(eps_max->value()));
+    if (i == 1) return map.weightGrid(keep);
+    if (eps_max && i == 2) return map.truncationGrid(static_cast<float>(eps_max->value()), keep);
     int k = i - (eps_max ? 3 : 2);
     for (const auto& [name, grid] : map.extraGrids()) {
         if (k-- > 0) continue;
@@ -123,19 +124,15 @@ std::size_t writeMapVdbPart(const std::filesystem::path& path, const VoxelMap& m
     for (auto it = meta.beginMeta(); it != meta.endMeta(); ++it) {
         file_meta.insertMeta(it->first, *it->second);
     }
-    const auto eps_max = map.metadata().getMetadata<openvdb::DoubleMetadata>("truncation_max_m");
+    // The TSDF's grids only: the extra grids (mapVdbGrid's last ones) are the whole map's.
+    const int count = mapVdbGridCount(map) - static_cast<int>(map.extraGrids().size());
     std::size_t voxels = 0;
     writeVdbGridsOneByOne(
-        path, eps_max ? 3 : 2,
-        [&](int i) -> openvdb::GridBase::Ptr {
-            if (i == 0) {
-                openvdb::FloatGrid::Ptr surface = map.surfaceGrid(keep);
-                surface->setSaveFloatAsHalf(false);
-                voxels = static_cast<std::size_t>(surface->activeVoxelCount());
-                return surface;
-            }
-            if (i == 1) return map.weightGrid(keep);
-            return map.truncationGrid(static_cast<float>(eps_max->value()), keep);
+        path, count,
+        [&](int i) {
+            openvdb::GridBase::Ptr grid = mapVdbGrid(map, i, keep);
+            if (i == 0) voxels = static_cast<std::size_t>(grid->activeVoxelCount());
+            return grid;
         },
         file_meta);
     return voxels;

@@ -16,10 +16,6 @@
 namespace vdbmap::detail {
 namespace {
 
-std::int32_t floorDiv(std::int32_t a, std::int32_t b) {
-    return a >= 0 ? a / b : -((-a + b - 1) / b);
-}
-
 /// Removes the leaves of `grid` whose tile `owns` rejects; returns how many.
 std::size_t keepOwnedLeaves(openvdb::FloatGrid& grid, const TileGrid& tiles,
                             const std::function<bool(int, int)>& owns) {
@@ -27,10 +23,8 @@ std::size_t keepOwnedLeaves(openvdb::FloatGrid& grid, const TileGrid& tiles,
     auto& tree = grid.tree();
     std::vector<openvdb::Coord> drop;
     for (auto it = tree.cbeginLeaf(); it; ++it) {
-        const openvdb::Coord o = it->origin();
-        const int ix = floorDiv(o[tiles.groundAxis(0)], tiles.tileVoxels());
-        const int iy = floorDiv(o[tiles.groundAxis(1)], tiles.tileVoxels());
-        if (!owns(ix, iy)) drop.push_back(o);
+        const auto [ix, iy] = tiles.tileOf(it->origin());
+        if (!owns(ix, iy)) drop.push_back(it->origin());
     }
     for (const openvdb::Coord& o : drop) {
         delete tree.stealNode<Leaf>(o, tree.background(), false);

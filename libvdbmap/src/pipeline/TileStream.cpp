@@ -254,14 +254,8 @@ void TileStream::dropUnread(const PlannedTile& planned) {
     // is dropped also when a later scan touches it again (another process's tile there).
     VoxelMap& map = setup_.ctx->map();
     map_bytes_max_ = std::max(map_bytes_max_, map.tsdfMemoryBytes());
-    const TileGrid& g = *grid_;
-    const auto cellOf = [&g](const openvdb::Coord& origin) {
-        const std::int32_t n = g.tileVoxels();
-        const auto floorDiv = [n](std::int32_t a) { return a >= 0 ? a / n : -((-a + n - 1) / n); };
-        return std::make_pair(floorDiv(origin[g.groundAxis(0)]), floorDiv(origin[g.groundAxis(1)]));
-    };
     leaves_dropped_ += map.dropLeaves([&](const openvdb::Coord& origin) {
-        const auto it = readers_.find(cellOf(origin));
+        const auto it = readers_.find(grid_->tileOf(origin));
         return it == readers_.end() || it->second <= 0;
     });
 }

@@ -16,10 +16,6 @@ namespace {
 
 constexpr std::int32_t kLeafVoxels = 8;  // TsdfLeaf::DIM
 
-std::int32_t floorDiv(std::int32_t a, std::int32_t b) {
-    return a >= 0 ? a / b : -((-a + b - 1) / b);
-}
-
 [[noreturn]] void badValue(const std::string& where, const std::string& key, double value,
                            const std::string& rule) {
     std::ostringstream os;
@@ -277,9 +273,8 @@ bool TileGrid::fitToMap(Tile& t, const VoxelMap& map) const {
 std::vector<Tile> TileGrid::tilesOf(const VoxelMap& map) const {
     std::set<std::pair<int, int>> keys;  // (iy, ix)
     for (const TsdfLeafView& leaf : map.leafViews()) {
-        // A leaf lies in one tile: tile edges are whole leaves.
-        keys.insert({floorDiv(leaf.origin[axes_[1]], tile_vox_),
-                     floorDiv(leaf.origin[axes_[0]], tile_vox_)});
+        const auto [ix, iy] = tileOf(leaf.origin);
+        keys.insert({iy, ix});
     }
     std::vector<Tile> tiles;
     for (const auto& [iy, ix] : keys) {

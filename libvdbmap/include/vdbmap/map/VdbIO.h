@@ -31,7 +31,9 @@ std::size_t writeMapVdbPart(const std::filesystem::path& path, const VoxelMap& m
 /// (decoded on demand: 0 surface, 1 weight, then truncation once an integrator finalized the
 /// map, then the extra grids) and the file metadata.
 int mapVdbGridCount(const VoxelMap& map);
-openvdb::GridBase::Ptr mapVdbGrid(const VoxelMap& map, int i);
+/// `keep` (if given): only the leaves it accepts, by origin, in the TSDF's grids (0 to 2).
+openvdb::GridBase::Ptr mapVdbGrid(const VoxelMap& map, int i,
+                                  const std::function<bool(const openvdb::Coord&)>& keep = nullptr);
 openvdb::MetaMap mapVdbMetadata(const VoxelMap& map);
 /// Writes a .vdb file (openvdb::io::File::write's file) of `count` grids made one at a time
 /// by `make(i)` and released once written (only one grid in memory), atomically. Grid names

@@ -4,7 +4,10 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
+
+#include <openvdb/math/Coord.h>
 
 #include "vdbmap/mesh/MarchingCubes.h"
 #include "vdbmap/render/ViewFrustum.h"
@@ -121,6 +124,10 @@ public:
     /// The two ground axes (0 = x, 1 = y, 2 = z): tile index ix runs along the first.
     int groundAxis(int k) const { return axes_[k]; }
 
+    /// (ix, iy) of the tile holding voxel `ijk` (a leaf lies in one tile: edges are whole leaves).
+    std::pair<int, int> tileOf(const openvdb::math::Coord& ijk) const {
+        return {floorDiv(ijk[axes_[0]], tile_vox_), floorDiv(ijk[axes_[1]], tile_vox_)};
+    }
     /// Tile (ix, iy) with its regions; its bounds along the up axis are empty until fitToMap.
     Tile tile(int ix, int iy) const;
     /// Sets the tile's bounds along the up axis from the leaves of `map` over its halo region
@@ -148,6 +155,8 @@ public:
                             double max_view_distance_m);
 
 private:
+    static int floorDiv(std::int32_t a, std::int32_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+
     double voxel_size_m_;
     int up_axis_;
     int axes_[2];
